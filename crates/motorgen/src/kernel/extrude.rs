@@ -1,0 +1,62 @@
+//! Straight (optionally twisted) extrusions of planar polygons with holes.
+
+use glam::{Vec2, Vec3};
+
+use super::{cap, mesh::Mesh, sweep::ccw};
+
+/// A polygon with holes, extruded along z from `z0` to `z1`; the top face is turned by `twist`
+/// radians about the z axis (a helical gear's teeth inclination).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Extrusion {
+    /// Outer boundary.
+    pub outer: Vec<Vec2>,
+    /// Through-holes, each strictly inside `outer` and apart from each other.
+    pub holes: Vec<Vec<Vec2>>,
+    /// Bottom.
+    pub z0: f32,
+    /// Top.
+    pub z1: f32,
+    /// Rotation of the top face relative to the bottom, radians.
+    pub twist: f32,
+}
+
+/// Builds an extrusion as one closed shell facing outwards.
+pub fn extrude(e: &Extrusion) -> Mesh {
+    let mut mesh = Mesh::default();
+    let top_turn = Vec2::from_angle(e.twist);
+    let mut layer = |poly: &[Vec2], z: f32, turn: Vec2| -> Vec<u32> {
+        poly.iter().map(|&p| mesh.vertex(turn.rotate(p).extend(z))).collect()
+    };
+    let loops: Vec<Vec<Vec2>> = std::iter::once(ccw(&e.outer)).chain(e.holes.iter().map(|h| ccw(h))).collect();
+    let bottoms: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z0, Vec2::X)).collect();
+    let tops: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z1, top_turn)).collect();
+    for (k, (b, t)) in bottoms.iter().zip(&tops).enumerate() {
+        let n = b.len();
+        for j in 0..n {
+            let j1 = (j + 1) % n;
+            if k == 0 {
+                mesh.quad(b[j], b[j1], t[j1], t[j]);
+            } else {
+                mesh.quad(b[j1], b[j], t[j], t[j1]);
+            }
+        }
+    }
+    cap(&mut mesh, &bottoms[0], &inner_loops(&bottoms), false);
+    cap(&mut mesh, &tops[0], &inner_loops(&tops), true);
+    mesh.orient_outward()
+}
+
+fn inner_loops(rings: &[Vec<u32>]) -> Vec<&[u32]> {
+    rings[1..].iter().map(Vec::as_slice).collect()
+}
+
+/// An axis-aligned box between two corners.
+pub fn cuboid(min: Vec3, max: Vec3) -> Mesh {
+    let outer = vec![
+        Vec2::new(min.x, min.y),
+        Vec2::new(max.x, min.y),
+        Vec2::new(max.x, max.y),
+        Vec2::new(min.x, max.y),
+    ];
+    extrude(&Extrusion { outer, z0: min.z, z1: max.z, ..Extrusion::default() })
+}

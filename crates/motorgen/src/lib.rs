@@ -1,0 +1,2 @@
+//! Parametric, labelled meshes of small DC gear motors.
+pub mod kernel;
