@@ -24,7 +24,12 @@ fn revolved_cylinder_has_the_polygon_volume() {
     let n = 32;
     let m = sweep(
         &Section::Circle { segments: n },
-        &[Vec2::new(0.0, 0.0), Vec2::new(0.02, 0.0), Vec2::new(0.02, 0.05), Vec2::new(0.0, 0.05)],
+        &[
+            Vec2::new(0.0, 0.0),
+            Vec2::new(0.02, 0.0),
+            Vec2::new(0.02, 0.05),
+            Vec2::new(0.0, 0.05),
+        ],
         &[],
     );
     assert_solid(&m, 1);
@@ -36,7 +41,12 @@ fn revolved_cylinder_has_the_polygon_volume() {
 
 #[test]
 fn profile_direction_does_not_matter() {
-    let up = [Vec2::new(0.0, 0.0), Vec2::new(0.01, 0.0), Vec2::new(0.01, 0.02), Vec2::new(0.0, 0.02)];
+    let up = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(0.01, 0.0),
+        Vec2::new(0.01, 0.02),
+        Vec2::new(0.0, 0.02),
+    ];
     let mut down = up;
     down.reverse();
     let s = Section::Circle { segments: 16 };
@@ -64,38 +74,83 @@ fn blind_hole_and_pocket_remove_their_volume() {
     );
     assert_solid(&boss, 1);
     let expect = ngon_prism(n, 0.005, 0.012) - ngon_prism(n, 0.0025, 0.005);
-    assert!(close(boss.signed_volume(), expect, 1e-5), "{} vs {expect}", boss.signed_volume());
+    assert!(
+        close(boss.signed_volume(), expect, 1e-5),
+        "{} vs {expect}",
+        boss.signed_volume()
+    );
 
     // the same hole as a pocket in the top cap
-    let pocket = Pocket { outline: circle(Vec2::ZERO, 0.0025, n, 0.0), depth: 0.005 };
-    let cup = sweep(&s, &[Vec2::new(0.0, 0.0), Vec2::new(0.005, 0.0), Vec2::new(0.005, 0.012)], &[pocket]);
+    let pocket = Pocket {
+        outline: circle(Vec2::ZERO, 0.0025, n, 0.0),
+        depth: 0.005,
+    };
+    let cup = sweep(
+        &s,
+        &[
+            Vec2::new(0.0, 0.0),
+            Vec2::new(0.005, 0.0),
+            Vec2::new(0.005, 0.012),
+        ],
+        &[pocket],
+    );
     assert_solid(&cup, 1);
     assert!(close(cup.signed_volume(), expect, 1e-5));
 }
 
 #[test]
 fn flat_circle_cup_matches_its_area() {
-    let s = Section::FlatCircle { radius: 0.02, half_width: 0.015, arc_segments: 200 };
+    let s = Section::FlatCircle {
+        radius: 0.02,
+        half_width: 0.015,
+        arc_segments: 200,
+    };
     let area = |r: f64, h: f64| {
         // circle of radius r cut at |x| = h: r²(π - 2α) + 2 h sqrt(r²-h²) with α = acos(h/r)
         let a = (h / r).acos();
         r * r * (PI - 2.0 * a) + 2.0 * h * (r * r - h * h).sqrt()
     };
     let inner = s.ring(-0.002);
-    let cup = sweep(&s, &[Vec2::new(0.0, 0.0), Vec2::new(0.0, 0.068)], &[Pocket { outline: inner, depth: 0.066 }]);
+    let cup = sweep(
+        &s,
+        &[Vec2::new(0.0, 0.0), Vec2::new(0.0, 0.068)],
+        &[Pocket {
+            outline: inner,
+            depth: 0.066,
+        }],
+    );
     assert_solid(&cup, 1);
     let expect = area(0.02, 0.015) * 0.068 - area(0.018, 0.013) * 0.066;
-    assert!(close(cup.signed_volume(), expect, 2e-3), "{} vs {expect}", cup.signed_volume());
+    assert!(
+        close(cup.signed_volume(), expect, 2e-3),
+        "{} vs {expect}",
+        cup.signed_volume()
+    );
     let b = cup.bounds();
-    assert!((b.size() - Vec3::new(0.03, 0.04, 0.068)).abs().max_element() < 1e-6, "{b:?}");
+    assert!(
+        (b.size() - Vec3::new(0.03, 0.04, 0.068))
+            .abs()
+            .max_element()
+            < 1e-6,
+        "{b:?}"
+    );
 }
 
 #[test]
 fn tube_from_a_profile_loop() {
-    let s = Section::FlatCircle { radius: 0.02, half_width: 0.015, arc_segments: 16 };
+    let s = Section::FlatCircle {
+        radius: 0.02,
+        half_width: 0.015,
+        arc_segments: 16,
+    };
     let tube = sweep_loop(
         &s,
-        &[Vec2::new(0.0, 0.0), Vec2::new(0.0, 0.01), Vec2::new(-0.002, 0.01), Vec2::new(-0.002, 0.0)],
+        &[
+            Vec2::new(0.0, 0.0),
+            Vec2::new(0.0, 0.01),
+            Vec2::new(-0.002, 0.01),
+            Vec2::new(-0.002, 0.0),
+        ],
     );
     assert_solid(&tube, 1);
     assert!(tube.signed_volume() > 0.0);
@@ -105,7 +160,13 @@ fn tube_from_a_profile_loop() {
 fn extrusion_with_holes_and_twist() {
     let outer = circle(Vec2::ZERO, 0.01, 40, 0.0);
     let hole = circle(Vec2::new(0.004, 0.0), 0.002, 16, 0.0);
-    let e = Extrusion { outer, holes: vec![hole], z0: 0.0, z1: 0.005, twist: 0.0 };
+    let e = Extrusion {
+        outer,
+        holes: vec![hole],
+        z0: 0.0,
+        z1: 0.005,
+        twist: 0.0,
+    };
     let m = extrude(&e);
     assert_solid(&m, 1);
     let expect = ngon_prism(40, 0.01, 0.005) - ngon_prism(16, 0.002, 0.005);
@@ -129,7 +190,12 @@ fn concave_polygons_and_clockwise_input() {
         Vec2::new(0.02, 0.01),
         Vec2::new(0.02, 0.0),
     ];
-    let m = extrude(&Extrusion { outer: l, z0: 0.0, z1: 0.001, ..Default::default() });
+    let m = extrude(&Extrusion {
+        outer: l,
+        z0: 0.0,
+        z1: 0.001,
+        ..Default::default()
+    });
     assert_solid(&m, 1);
     assert!(close(m.signed_volume(), 3e-4 * 1e-3, 1e-5));
 }
@@ -166,7 +232,10 @@ fn segment_counts_follow_the_tolerance() {
             let n = d.segments(r);
             assert_eq!(n % 4, 0);
             let sagitta = r * (1.0 - (std::f32::consts::PI / n as f32).cos());
-            assert!(n == 8 || n == 256 || sagitta <= d.tolerance() * 1.001, "{d:?} r={r} n={n}");
+            assert!(
+                n == 8 || n == 256 || sagitta <= d.tolerance() * 1.001,
+                "{d:?} r={r} n={n}"
+            );
         }
     }
 }

@@ -25,9 +25,13 @@ pub fn extrude(e: &Extrusion) -> Mesh {
     let mut mesh = Mesh::default();
     let top_turn = Vec2::from_angle(e.twist);
     let mut layer = |poly: &[Vec2], z: f32, turn: Vec2| -> Vec<u32> {
-        poly.iter().map(|&p| mesh.vertex(turn.rotate(p).extend(z))).collect()
+        poly.iter()
+            .map(|&p| mesh.vertex(turn.rotate(p).extend(z)))
+            .collect()
     };
-    let loops: Vec<Vec<Vec2>> = std::iter::once(ccw(&e.outer)).chain(e.holes.iter().map(|h| ccw(h))).collect();
+    let loops: Vec<Vec<Vec2>> = std::iter::once(ccw(&e.outer))
+        .chain(e.holes.iter().map(|h| ccw(h)))
+        .collect();
     let bottoms: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z0, Vec2::X)).collect();
     let tops: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z1, top_turn)).collect();
     for (k, (b, t)) in bottoms.iter().zip(&tops).enumerate() {
@@ -58,5 +62,10 @@ pub fn cuboid(min: Vec3, max: Vec3) -> Mesh {
         Vec2::new(max.x, max.y),
         Vec2::new(min.x, max.y),
     ];
-    extrude(&Extrusion { outer, z0: min.z, z1: max.z, ..Extrusion::default() })
+    extrude(&Extrusion {
+        outer,
+        z0: min.z,
+        z1: max.z,
+        ..Extrusion::default()
+    })
 }

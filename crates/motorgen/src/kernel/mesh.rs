@@ -23,11 +23,17 @@ pub struct Aabb {
 
 impl Aabb {
     /// The empty box, the identity of [`Aabb::union`].
-    pub const EMPTY: Aabb = Aabb { min: Vec3::INFINITY, max: Vec3::NEG_INFINITY };
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
 
     /// The smallest box holding both.
     pub fn union(self, other: Aabb) -> Aabb {
-        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
     }
 
     /// Edge lengths.
@@ -51,8 +57,12 @@ impl Mesh {
     pub fn append(&mut self, other: &Mesh) {
         let offset = self.positions.len() as u32;
         self.positions.extend_from_slice(&other.positions);
-        self.triangles
-            .extend(other.triangles.iter().map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]));
+        self.triangles.extend(
+            other
+                .triangles
+                .iter()
+                .map(|t| [t[0] + offset, t[1] + offset, t[2] + offset]),
+        );
     }
 
     /// Applies an affine transform; a mirroring transform also reverses the winding so that
@@ -81,9 +91,10 @@ impl Mesh {
 
     /// Bounding box of the vertices ([`Aabb::EMPTY`] for an empty mesh).
     pub fn bounds(&self) -> Aabb {
-        self.positions
-            .iter()
-            .fold(Aabb::EMPTY, |b, &p| Aabb { min: b.min.min(p), max: b.max.max(p) })
+        self.positions.iter().fold(Aabb::EMPTY, |b, &p| Aabb {
+            min: b.min.min(p),
+            max: b.max.max(p),
+        })
     }
 
     /// Signed enclosed volume (divergence theorem, accumulated in f64); positive for a closed

@@ -6,10 +6,10 @@ mod mesh;
 mod sweep;
 mod topology;
 
-pub use extrude::{cuboid, extrude, Extrusion};
+pub use extrude::{Extrusion, cuboid, extrude};
 pub use mesh::{Aabb, Mesh};
-pub use sweep::{sweep, sweep_loop, Pocket, Section};
-pub use topology::{inspect, shell_ids, MeshReport};
+pub use sweep::{Pocket, Section, sweep, sweep_loop};
+pub use topology::{MeshReport, inspect, shell_ids};
 
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
@@ -85,7 +85,11 @@ fn cap(mesh: &mut Mesh, outer: &[u32], holes: &[&[u32]], up: bool) {
     // Delaunay flips remove the slivers ear clipping leaves between (near) collinear vertices.
     earcut::refine(&mut local, &xy);
     for t in local.chunks_exact(3) {
-        let mut tri = [order[t[0] as usize], order[t[1] as usize], order[t[2] as usize]];
+        let mut tri = [
+            order[t[0] as usize],
+            order[t[1] as usize],
+            order[t[2] as usize],
+        ];
         let [a, b, c] = tri.map(|i| mesh.positions[i as usize].truncate());
         if ((b - a).perp_dot(c - a) > 0.0) != up {
             tri.swap(1, 2);

@@ -52,16 +52,23 @@ impl Section {
     pub fn ring(&self, u: f32) -> Vec<Vec2> {
         match *self {
             Section::Circle { segments } => super::circle(Vec2::ZERO, u, segments, 0.0),
-            Section::FlatCircle { radius, half_width, arc_segments } => {
+            Section::FlatCircle {
+                radius,
+                half_width,
+                arc_segments,
+            } => {
                 let r = radius + u;
                 let alpha = ((half_width + u) / r).clamp(-1.0, 1.0).acos();
                 let arc = |from: f32| {
                     (0..=arc_segments).map(move |i| {
-                        let a = from + (std::f32::consts::PI - 2.0 * alpha) * i as f32 / arc_segments as f32;
+                        let a = from
+                            + (std::f32::consts::PI - 2.0 * alpha) * i as f32 / arc_segments as f32;
                         r * Vec2::from_angle(a)
                     })
                 };
-                arc(alpha).chain(arc(std::f32::consts::PI + alpha)).collect()
+                arc(alpha)
+                    .chain(arc(std::f32::consts::PI + alpha))
+                    .collect()
             }
         }
     }
@@ -72,7 +79,10 @@ impl Section {
 /// must then be the top of the solid. Returns one closed shell facing outwards.
 pub fn sweep(section: &Section, profile: &[Vec2], pockets: &[Pocket]) -> Mesh {
     let mut mesh = Mesh::default();
-    let rings: Vec<Vec<u32>> = profile.iter().map(|p| add_ring(&mut mesh, section, *p)).collect();
+    let rings: Vec<Vec<u32>> = profile
+        .iter()
+        .map(|p| add_ring(&mut mesh, section, *p))
+        .collect();
     for pair in rings.windows(2) {
         band(&mut mesh, &pair[0], &pair[1]);
     }
@@ -84,7 +94,12 @@ pub fn sweep(section: &Section, profile: &[Vec2], pockets: &[Pocket]) -> Mesh {
         let top = profile.last().expect("a profile has points").y;
         let pocket_rings: Vec<Vec<u32>> = pockets
             .iter()
-            .map(|p| ccw(&p.outline).into_iter().map(|q| mesh.vertex(q.extend(top))).collect())
+            .map(|p| {
+                ccw(&p.outline)
+                    .into_iter()
+                    .map(|q| mesh.vertex(q.extend(top)))
+                    .collect()
+            })
             .collect();
         let holes: Vec<&[u32]> = pocket_rings.iter().map(Vec::as_slice).collect();
         cap(&mut mesh, last, &holes, true);
@@ -109,7 +124,10 @@ pub fn sweep(section: &Section, profile: &[Vec2], pockets: &[Pocket]) -> Mesh {
 /// collapsing axis. Returns one closed shell facing outwards.
 pub fn sweep_loop(section: &Section, profile: &[Vec2]) -> Mesh {
     let mut mesh = Mesh::default();
-    let rings: Vec<Vec<u32>> = profile.iter().map(|p| add_ring(&mut mesh, section, *p)).collect();
+    let rings: Vec<Vec<u32>> = profile
+        .iter()
+        .map(|p| add_ring(&mut mesh, section, *p))
+        .collect();
     for k in 0..rings.len() {
         band(&mut mesh, &rings[k], &rings[(k + 1) % rings.len()]);
     }
@@ -120,7 +138,11 @@ fn add_ring(mesh: &mut Mesh, section: &Section, p: Vec2) -> Vec<u32> {
     if section.collapses(p.x) {
         vec![mesh.vertex(Vec3::new(0.0, 0.0, p.y))]
     } else {
-        section.ring(p.x).into_iter().map(|q| mesh.vertex(q.extend(p.y))).collect()
+        section
+            .ring(p.x)
+            .into_iter()
+            .map(|q| mesh.vertex(q.extend(p.y)))
+            .collect()
     }
 }
 

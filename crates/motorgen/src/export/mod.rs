@@ -1,0 +1,131 @@
+//! Mesh export: OBJ with MTL, binary STL, binary PLY with per-face labels, and glTF binary, per
+//! part and for the whole motor, plus the ground truth as JSON and CSV.
+//!
+//! The writers of these simple formats are hand-written streams (a few lines each, no
+//! intermediate copies); the tests read every file back with an independent reader crate.
+
+mod attributes;
+mod glb;
+mod obj;
+mod ply;
+mod stl;
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+pub use attributes::{csv_header, csv_row, motor_json};
+pub use glb::write_glb;
+pub use obj::{write_mtl, write_obj};
+pub use ply::write_ply;
+pub use stl::write_stl;
+
+use crate::model::{Motor, Part};
+use crate::{Error, Result};
+
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// Wavefront OBJ with an MTL of the add-on's materials.
+    Obj,
+    /// Binary STL.
+    Stl,
+    /// Binary little-endian PLY with per-face `class` and `instance`.
+    Ply,
+    /// glTF 2.0 binary, one named node per part.
+    Glb,
+}
+
+impl Format {
+    /// All formats.
+    pub const ALL: [Format; 4] = [Format::Obj, Format::Stl, Format::Ply, Format::Glb];
+
+    /// File extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Obj => "obj",
+            Format::Stl => "stl",
+            Format::Ply => "ply",
+            Format::Glb => "glb",
+        }
+    }
+
+    /// Parses a format name.
+    pub fn parse(name: &str) -> Result<Format> {
+        Format::ALL
+            .into_iter()
+            .find(|f| f.extension() == name)
+            .ok_or_else(|| Error::Invalid {
+                key: "format".into(),
+                value: format!("\"{name}\""),
+                allowed: "obj, stl, ply or glb".into(),
+            })
+    }
+}
+
+/// Writes `motor` into `dir`: for each format the whole motor (`motor.<ext>`) and, when
+/// `per_part`, each part (`<part name>.<ext>`); plus `attributes.json`. Every file is written to
+/// a temporary name and renamed, so a crash never leaves half a file. Returns the paths written.
+pub fn write_motor(
+    motor: &Motor,
+    dir: &Path,
+    formats: &[Format],
+    per_part: bool,
+) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(Error::io(dir))?;
+    let mut written = Vec::new();
+    let mut save =
+        |name: String, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| -> Result<()> {
+            let path = dir.join(name);
+            write_atomic(&path, body)?;
+            written.push(path);
+            Ok(())
+        };
+    let everything: Vec<&Part> = motor.parts.iter().collect();
+    for &format in formats {
+        let ext = format.extension();
+        let mut groups: Vec<(String, Vec<&Part>)> = vec![("motor".into(), everything.clone())];
+        if per_part {
+            groups.extend(motor.parts.iter().map(|p| (p.name.clone(), vec![p])));
+        }
+        for (stem, parts) in &groups {
+            save(format!("{stem}.{ext}"), &|w| match format {
+                Format::Obj => write_obj(w, parts, Some("materials.mtl")),
+                Format::Stl => write_stl(w, parts),
+                Format::Ply => write_ply(w, parts),
+                Format::Glb => write_glb(w, parts),
+            })?;
+        }
+        if format == Format::Obj {
+            save("materials.mtl".into(), &|w| write_mtl(w))?;
+        }
+    }
+    save("attributes.json".into(), &|w| {
+        serde_json::to_writer_pretty(&mut *w, &motor_json(motor))?;
+        w.write_all(b"\n")
+    })?;
+    Ok(written)
+}
+
+/// Writes a file through a buffered temporary file in the same folder, then renames it.
+pub fn write_atomic(
+    path: &Path,
+    body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    let tmp = path.with_extension(format!(
+        "{}.tmp",
+        path.extension().and_then(|e| e.to_str()).unwrap_or("")
+    ));
+    let result = (|| {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+        body(&mut w)?;
+        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::io(path)(e)
+    })
+}

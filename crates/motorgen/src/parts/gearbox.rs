@@ -1,0 +1,282 @@
+//! The parts that turn with the gearbox: gear housings, boards and cover-bolt bosses (of the
+//! gear container), the cover with its extension arm, the inner gears, and where the cover
+//! bolts go. Built in the gearbox plane frame (u, v, w) in centimetres: v is the motor's z, u
+//! the horizontal direction in the cover plane, w the gear axis pointing out of the cover, and
+//! the cover plane at w = 0.
+
+use glam::{Affine3A, Vec2, Vec3};
+
+use super::Dims;
+use super::body::{BOSS_RADIUS, HOLE_RADIUS};
+use super::shapes::{
+    Tess, circle_pair_outline, convex_hull, gear_outline, plane_frame, plate, strip,
+};
+use crate::kernel::{Extrusion, Mesh, extrude};
+use crate::model::PartKind;
+use crate::params::{Extension, MotorParams, MotorType};
+
+/// Housing wall thickness (the add-on's EXTENSION_THICKNESS).
+const WALL: f32 = 0.2;
+/// Distance of the cover bolts outside the housing radius.
+const BOLT_OFFSET: f32 = 0.36;
+/// Length of a cover-bolt boss behind the cover plane, and the depth of its hole.
+const BOSS_LENGTH: f32 = 1.4;
+const BOSS_HOLE_DEPTH: f32 = 1.2;
+/// Mounting-eye radii of the cover arms.
+const EYE: (f32, f32) = (0.7, 0.3);
+
+/// One gear of the layout.
+pub struct Gear {
+    /// Which inner gear sits in it.
+    pub kind: PartKind,
+    /// Centre in (u, v).
+    pub centre: Vec2,
+    /// Housing outer radius.
+    pub radius: f32,
+    /// Housing depth behind the cover plane.
+    pub depth: f32,
+}
+
+/// Where everything of the gearbox goes.
+pub struct Layout {
+    /// Gearbox frame to motor frame (cm): orientation, mirror and the cover plane's place.
+    pub to_motor: Affine3A,
+    /// The gears.
+    pub gears: Vec<Gear>,
+    /// Cover-bolt positions in (u, v), in bolt order.
+    pub bolts: Vec<Vec2>,
+    /// Height of the cover's top face (where the bolt heads sit) above the cover plane.
+    pub cover_thickness: f32,
+    /// The mounting arm(s): from, to.
+    pub arms: Vec<(Vec2, Vec2)>,
+    /// Half-width of the arms.
+    pub arm_width: f32,
+}
+
+impl Layout {
+    /// Lays out the gearbox of `p`.
+    pub fn new(p: &MotorParams, d: &Dims) -> Layout {
+        let deg = |a: f32| a.to_radians();
+        let on_circle = |c: Vec2, r: f32, a: f32| c + (r + BOLT_OFFSET) * Vec2::from_angle(deg(a));
+        let quarter_turns = p.gearbox_orientation_deg / 90;
+        let rotation = Affine3A::from_rotation_z(-deg(p.gearbox_orientation_deg as f32));
+        let mirror = Affine3A::from_scale(Vec3::new(if p.mirror { -1.0 } else { 1.0 }, 1.0, 1.0));
+        match p.motor_type {
+            MotorType::A => {
+                // gearbox depth along the gear axis = the pot's extent in that direction
+                let l = if quarter_turns % 2 == 0 { 4.0 } else { 3.0 };
+                let (rl, ru) = (d.lower_dia / 2.0, d.upper_dia / 2.0);
+                let cl = Vec2::new(rl, d.top + d.lower_pos);
+                let cu = Vec2::new(rl - 0.8, d.top + d.lower_pos + ru + 0.2);
+                let cover_plane = -1.0 - l / 3.0;
+                let frame =
+                    plane_frame(Vec3::X, Vec3::Z, -Vec3::Y, Vec3::new(0.0, cover_plane, 0.0));
+                let mut bolts = vec![
+                    on_circle(cl, rl, p.lower_bolt_1_deg),
+                    on_circle(cl, rl, p.lower_bolt_2_deg),
+                ];
+                bolts.extend(
+                    p.upper_bolt_angles_deg()
+                        .into_iter()
+                        .map(|a| on_circle(cu, ru, a)),
+                );
+                let arms = match p.extension() {
+                    Extension::Type1 => vec![(cu, Vec2::new(cl.x + 0.65 * rl + 1.3, d.top - 2.0))],
+                    Extension::Type2 => [-1.0, 1.0]
+                        .map(|s| (cl, Vec2::new(cl.x + s * (rl + 1.5), cl.y - 0.4 * rl)))
+                        .to_vec(),
+                    Extension::None => vec![],
+                };
+                Layout {
+                    to_motor: rotation * frame * mirror,
+                    gears: vec![
+                        Gear {
+                            kind: PartKind::LowerGear,
+                            centre: cl,
+                            radius: rl,
+                            depth: 2.0 * l / 3.0,
+                        },
+                        Gear {
+                            kind: PartKind::UpperGear,
+                            centre: cu,
+                            radius: ru,
+                            depth: l / 3.0,
+                        },
+                    ],
+                    bolts,
+                    cover_thickness: 0.5,
+                    arms,
+                    arm_width: EYE.0,
+                }
+            }
+            MotorType::B => {
+                let r = d.lower_dia / 2.0;
+                let c = Vec2::new(-r, d.top + d.lower_pos);
+                let frame = plane_frame(Vec3::Y, Vec3::Z, Vec3::X, Vec3::new(0.6, 0.0, 0.0));
+                let mut bolts: Vec<Vec2> = p
+                    .b_bolt_angles_deg()
+                    .into_iter()
+                    .map(|a| on_circle(c, r, a))
+                    .collect();
+                bolts.push(Vec2::new(1.1, d.top + d.right_bolt));
+                Layout {
+                    to_motor: rotation * frame * mirror,
+                    gears: vec![Gear {
+                        kind: PartKind::SingleGear,
+                        centre: c,
+                        radius: r,
+                        depth: 1.5,
+                    }],
+                    bolts,
+                    cover_thickness: 0.4,
+                    arms: vec![(
+                        Vec2::new(-2.0 * r, d.top + d.h1),
+                        Vec2::new(2.4, d.top + d.h2),
+                    )],
+                    arm_width: 0.5,
+                }
+            }
+        }
+    }
+
+    /// The gearbox's share of the gear container: housings, boards, bolt bosses (and for type B
+    /// the gear-extension board with its end eyes, whatever the cover's shape).
+    pub fn container(&self, t: Tess, p: &MotorParams, d: &Dims) -> Mesh {
+        let mut m = Mesh::default();
+        for g in &self.gears {
+            m.append(
+                &t.cup(g.radius, g.depth, WALL)
+                    .transformed(&Affine3A::from_translation(g.centre.extend(-g.depth))),
+            );
+        }
+        let hole_at_cover = Affine3A::from_scale(Vec3::new(1.0, 1.0, -1.0));
+        for b in &self.bolts {
+            let boss = t.boss(BOSS_RADIUS, BOSS_LENGTH, HOLE_RADIUS, BOSS_HOLE_DEPTH);
+            m.append(
+                &boss.transformed(&(Affine3A::from_translation(b.extend(0.0)) * hole_at_cover)),
+            );
+        }
+        match p.motor_type {
+            MotorType::A => {
+                let lower = &self.gears[0];
+                // centre boss the lower gear turns on, and the board joining housing and collar
+                m.append(
+                    &t.cylinder(0.5, -lower.depth + WALL, -1.4)
+                        .transformed(&Affine3A::from_translation(lower.centre.extend(0.0))),
+                );
+                let board = super::shapes::rect(
+                    Vec2::new(-1.4, d.top + 1.4),
+                    Vec2::new(lower.centre.x, lower.centre.y),
+                );
+                m.append(&plate(board, vec![], -0.25, -0.1));
+            }
+            MotorType::B => {
+                let (from, to) = self.arms[0];
+                m.append(&plate(
+                    strip(from, to, self.arm_width),
+                    vec![],
+                    -0.45,
+                    -0.15,
+                ));
+                for e in [from, to] {
+                    m.append(&t.ring(e, 0.6, 0.25, -0.6, 0.0));
+                }
+            }
+        }
+        m.transformed(&self.to_motor)
+    }
+
+    /// The cover: the plate over the gear(s), bolt lugs, hub, and the extension arm(s).
+    pub fn cover(&self, t: Tess, p: &MotorParams) -> Mesh {
+        let top = self.cover_thickness;
+        let mut m = Mesh::default();
+        match p.motor_type {
+            MotorType::A => {
+                let (l, u) = (&self.gears[0], &self.gears[1]);
+                let outline = circle_pair_outline(
+                    l.centre,
+                    l.radius,
+                    t.n(l.radius),
+                    u.centre,
+                    u.radius,
+                    t.n(u.radius),
+                );
+                m.append(&plate(outline, vec![], 0.0, top));
+                // output hub on the upper gear
+                m.append(&t.ring(u.centre, 1.3, 0.75, top, top + 0.15));
+                m.append(
+                    &t.cylinder(0.7, top, top + 0.8)
+                        .transformed(&Affine3A::from_translation(u.centre.extend(0.0))),
+                );
+                for &(from, to) in &self.arms {
+                    m.append(&plate(strip(from, to, self.arm_width), vec![], 0.0, top));
+                    m.append(&t.ring(to, EYE.0, EYE.1, -1.1, top));
+                }
+            }
+            MotorType::B => {
+                let g = &self.gears[0];
+                m.append(&plate(t.circle(g.centre, g.radius), vec![], 0.0, top));
+                m.append(&plate(convex_hull(&self.bolts), vec![], 0.0, 0.2));
+                if p.extension() == Extension::Type1 {
+                    let (from, to) = self.arms[0];
+                    m.append(&plate(strip(from, to, self.arm_width), vec![], 0.0, top));
+                    for e in [from, to] {
+                        m.append(&t.ring(e, 0.6, 0.25, 0.0, top));
+                    }
+                }
+            }
+        }
+        for b in &self.bolts {
+            m.append(&t.ring(*b, BOSS_RADIUS, HOLE_RADIUS, 0.0, top));
+        }
+        m.transformed(&self.to_motor)
+    }
+
+    /// The inner gear of housing `g`: teeth sheared by the teeth inclination, hub or pinion.
+    /// Returns the mesh (motor frame) and the gear's tip diameter.
+    pub fn inner_gear(&self, t: Tess, p: &MotorParams, g: &Gear) -> (Mesh, f32) {
+        let incline = p.teeth_inclination_deg.to_radians().tan();
+        let pocket = g.radius - WALL;
+        let wheel = |r: f32, teeth: usize, w0: f32, w1: f32| {
+            let tooth = (2.3 * 2.0 * r * (std::f32::consts::PI / teeth as f32).sin())
+                .min(0.9 * (pocket - r));
+            let e = Extrusion {
+                outer: gear_outline(r, teeth, tooth),
+                holes: vec![t.circle(Vec2::ZERO, 0.2)],
+                z0: w0,
+                z1: w1,
+                twist: (w1 - w0) * incline / r,
+            };
+            (extrude(&e), 2.0 * (r + tooth))
+        };
+        let (mut m, tip) = match g.kind {
+            PartKind::LowerGear => {
+                let (mut m, tip) = wheel(0.6 * g.radius, 40, -0.75, -0.3);
+                m.append(&wheel(0.2 * g.radius, 10, -1.35, -0.75).0);
+                (m, tip)
+            }
+            PartKind::UpperGear => {
+                let (mut m, tip) = wheel(0.7 * g.radius, 30, -0.75, -0.3);
+                m.append(&t.ring(Vec2::ZERO, 0.3 * g.radius, 0.2, -0.3, -0.1));
+                (m, tip)
+            }
+            _ => {
+                let (mut m, tip) = wheel(0.75 * g.radius, 30, -1.0, -0.5);
+                m.append(&t.ring(Vec2::ZERO, 0.75, 0.2, -0.5, -0.2));
+                (m, tip)
+            }
+        };
+        m.transform(&(self.to_motor * Affine3A::from_translation(g.centre.extend(0.0))));
+        (m, tip)
+    }
+
+    /// The motor-frame point of a gearbox-frame (u, v, w) point.
+    pub fn point(&self, uv: Vec2, w: f32) -> Vec3 {
+        self.to_motor.transform_point3(uv.extend(w))
+    }
+
+    /// The motor-frame direction of the gear axis (out of the cover).
+    pub fn axis(&self) -> Vec3 {
+        self.to_motor.transform_vector3(Vec3::Z).normalize()
+    }
+}

@@ -1,0 +1,209 @@
+//! Reusable solids for the part builders, in centimetres along local +z.
+
+use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
+
+use crate::kernel::{Detail, Extrusion, Mesh, Pocket, Section, circle, extrude, sweep};
+
+/// Tessellation in centimetre units.
+#[derive(Clone, Copy, Debug)]
+pub struct Tess(pub Detail);
+
+impl Tess {
+    /// Vertices of a full circle of radius `r_cm`.
+    pub fn n(self, r_cm: f32) -> usize {
+        self.0.segments(r_cm * 0.01)
+    }
+
+    /// A circle outline.
+    pub fn circle(self, c: Vec2, r: f32) -> Vec<Vec2> {
+        circle(c, r, self.n(r), 0.0)
+    }
+
+    /// A solid of revolution about z from an open (r, z) profile whose ends lie on the axis.
+    pub fn revolve(self, profile: &[Vec2], pockets: &[Pocket]) -> Mesh {
+        let r_max = profile.iter().map(|p| p.x).fold(0.0, f32::max);
+        sweep(
+            &Section::Circle {
+                segments: self.n(r_max),
+            },
+            profile,
+            pockets,
+        )
+    }
+
+    /// A cylinder of radius `r` from `z0` to `z1`.
+    pub fn cylinder(self, r: f32, z0: f32, z1: f32) -> Mesh {
+        self.revolve(
+            &[
+                Vec2::new(0.0, z0),
+                Vec2::new(r, z0),
+                Vec2::new(r, z1),
+                Vec2::new(0.0, z1),
+            ],
+            &[],
+        )
+    }
+
+    /// A boss of radius `r` from z = 0 to `length`, with a blind hole of `hole_r` sunk `hole_depth`
+    /// from its z = 0 end (where the bolt enters).
+    pub fn boss(self, r: f32, length: f32, hole_r: f32, hole_depth: f32) -> Mesh {
+        self.revolve(
+            &[
+                Vec2::new(0.0, hole_depth),
+                Vec2::new(hole_r, hole_depth),
+                Vec2::new(hole_r, 0.0),
+                Vec2::new(r, 0.0),
+                Vec2::new(r, length),
+                Vec2::new(0.0, length),
+            ],
+            &[],
+        )
+    }
+
+    /// A cup of radius `r` from z = 0 to `depth`, open at the top, walls and floor `wall` thick.
+    pub fn cup(self, r: f32, depth: f32, wall: f32) -> Mesh {
+        let pocket = Pocket {
+            outline: circle(Vec2::ZERO, r - wall, self.n(r), 0.0),
+            depth: depth - wall,
+        };
+        self.revolve(
+            &[Vec2::new(0.0, 0.0), Vec2::new(r, 0.0), Vec2::new(r, depth)],
+            &[pocket],
+        )
+    }
+
+    /// A flat ring (annulus) from `z0` to `z1`.
+    pub fn ring(self, c: Vec2, r_out: f32, r_in: f32, z0: f32, z1: f32) -> Mesh {
+        plate(self.circle(c, r_out), vec![self.circle(c, r_in)], z0, z1)
+    }
+}
+
+/// A plate: a polygon with holes extruded from `z0` to `z1`.
+pub fn plate(outer: Vec<Vec2>, holes: Vec<Vec<Vec2>>, z0: f32, z1: f32) -> Mesh {
+    extrude(&Extrusion {
+        outer,
+        holes,
+        z0,
+        z1,
+        twist: 0.0,
+    })
+}
+
+/// The rectangle of half-width `w` along the segment from `a` to `b`.
+pub fn strip(a: Vec2, b: Vec2, w: f32) -> Vec<Vec2> {
+    let side = (b - a).normalize().perp() * w;
+    vec![a - side, b - side, b + side, a + side]
+}
+
+/// An axis-aligned rectangle.
+pub fn rect(min: Vec2, max: Vec2) -> Vec<Vec2> {
+    vec![min, Vec2::new(max.x, min.y), max, Vec2::new(min.x, max.y)]
+}
+
+/// The annular sector between radii `r_in` and `r_out` from angle `a0` to `a1` (radians).
+pub fn sector(r_in: f32, r_out: f32, a0: f32, a1: f32, segments: usize) -> Vec<Vec2> {
+    let arc = |r: f32| {
+        (0..=segments)
+            .map(move |i| r * Vec2::from_angle(a0 + (a1 - a0) * i as f32 / segments as f32))
+    };
+    arc(r_out)
+        .chain(arc(r_in).collect::<Vec<_>>().into_iter().rev())
+        .collect()
+}
+
+/// The outline of a gear (or slotted armature core): `teeth` trapezoid teeth of height `h` on
+/// a root circle of radius `r`, each with a base of 80% of the pitch and a tip 40% of the base.
+pub fn gear_outline(r: f32, teeth: usize, h: f32) -> Vec<Vec2> {
+    let pitch = std::f32::consts::TAU / teeth as f32;
+    let base = 0.4 * pitch; // half-angle of the base
+    let tip = 0.4 * base * r / (r + h); // half-angle of the tip, 40% of the base width
+    (0..teeth)
+        .flat_map(|i| {
+            let a = i as f32 * pitch;
+            [
+                (a - base, r),
+                (a - tip, r + h),
+                (a + tip, r + h),
+                (a + base, r),
+            ]
+        })
+        .map(|(a, rr)| rr * Vec2::from_angle(a))
+        .collect()
+}
+
+/// The convex hull of points, counter-clockwise (monotone chain).
+pub fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
+    let mut p = points.to_vec();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
+    for pass in [p.clone(), p.iter().rev().copied().collect()] {
+        let start = hull.len();
+        for q in pass {
+            while hull.len() >= start + 2
+                && (hull[hull.len() - 1] - hull[hull.len() - 2]).perp_dot(q - hull[hull.len() - 2])
+                    <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// The outline of the union of two overlapping circles (neither inside the other),
+/// counter-clockwise; `n1`, `n2` are the full-circle vertex counts.
+pub fn circle_pair_outline(
+    c1: Vec2,
+    r1: f32,
+    n1: usize,
+    c2: Vec2,
+    r2: f32,
+    n2: usize,
+) -> Vec<Vec2> {
+    let d = c2 - c1;
+    let dist = d.length();
+    let base = d.y.atan2(d.x);
+    // half-angles of the arcs inside the other circle, at each centre
+    let h1 = ((dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist * r1))
+        .clamp(-1.0, 1.0)
+        .acos();
+    let h2 = ((dist * dist + r2 * r2 - r1 * r1) / (2.0 * dist * r2))
+        .clamp(-1.0, 1.0)
+        .acos();
+    let arc = |c: Vec2, r: f32, from: f32, span: f32, n: usize| {
+        let k = ((span / std::f32::consts::TAU * n as f32).ceil() as usize).max(2);
+        (0..k).map(move |i| c + r * Vec2::from_angle(from + span * i as f32 / k as f32))
+    };
+    // circle 1 from the upper intersection round its far side, then circle 2 likewise
+    arc(c1, r1, base + h1, std::f32::consts::TAU - 2.0 * h1, n1)
+        .chain(arc(
+            c2,
+            r2,
+            base + std::f32::consts::PI + h2,
+            std::f32::consts::TAU - 2.0 * h2,
+            n2,
+        ))
+        .collect()
+}
+
+/// The transform taking local +z to `axis` (by the shortest-arc rotation) and the local origin
+/// to `origin`.
+pub fn frame(origin: Vec3, axis: Vec3) -> Affine3A {
+    let rotation = glam::Quat::from_rotation_arc(Vec3::Z, axis.normalize());
+    Affine3A::from_rotation_translation(rotation, origin)
+}
+
+/// The transform from a plane frame (u, v, w) to world, given the world directions of u, v, w
+/// (right-handed) and the world position of the frame origin.
+pub fn plane_frame(u: Vec3, v: Vec3, w: Vec3, origin: Vec3) -> Affine3A {
+    Affine3A {
+        matrix3: Mat3A::from_cols(u.into(), v.into(), w.into()),
+        translation: Vec3A::from(origin),
+    }
+}
