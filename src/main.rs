@@ -1,1 +1,38 @@
-fn main() {}
+//! motorfactory: synthetic, labelled 3D training data of small electric gear motors.
+
+mod error;
+mod motors;
+mod progress;
+
+use clap::{Parser, Subcommand};
+
+/// Synthetic, labelled 3D data of small DC gear motors.
+#[derive(Debug, Parser)]
+#[command(name = "motorfactory", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Build one motor and write its meshes and ground truth.
+    Motor(motors::MotorCmd),
+    /// Build many motors in parallel from a parameter space.
+    Motors(motors::MotorsCmd),
+    /// List every motor parameter with its range, default and meaning.
+    Params,
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Motor(cmd) => cmd.run(),
+        Command::Motors(cmd) => cmd.run(),
+        Command::Params => motors::print_params(),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e}");
+        std::process::exit(e.exit_code());
+    }
+}

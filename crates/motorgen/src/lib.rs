@@ -18,4 +18,4 @@ pub use labels::Scheme;
 pub use model::{Attributes, Motor, Part, PartClass, PartKind};
 pub use params::MotorParams;
 pub use parts::build;
-pub use space::{Dist, ParamSpace};
+pub use space::{Dist, ParamSpace, derive_seed};

@@ -111,8 +111,6 @@ use Auto::*;
 use DefaultValue as D;
 use Kind::*;
 
-const CM: f64 = 0.01;
-
 /// Every motor parameter, in sampling order (a parameter may depend on earlier ones).
 pub static PARAMS: &[ParamSpec] = &[
     ParamSpec {
@@ -157,80 +155,80 @@ pub static PARAMS: &[ParamSpec] = &[
     ParamSpec {
         key: "pole_pot_length",
         kind: Real {
-            min: 6.2 * CM,
-            max: 8.2 * CM,
+            min: 0.062,
+            max: 0.082,
         },
-        default: D::Num(6.8 * CM),
-        auto: Range(6.2 * CM, 8.0 * CM),
+        default: D::Num(0.068),
+        auto: Range(0.062, 0.08),
         doc: "Pole-pot length along the motor axis, m. The add-on's property limits (its README and scripts said 4-8 cm, which Blender clamped). Add-on: mf_Bottom_Length.",
     },
     ParamSpec {
         key: "shaft_boss_length",
         kind: Real {
-            min: 0.6 * CM,
-            max: 2.0 * CM,
+            min: 0.006,
+            max: 0.02,
         },
-        default: D::Num(1.2 * CM),
+        default: D::Num(0.012),
         auto: Full,
         doc: "Length of the shaft boss under the pole pot, m. Add-on: mf_Sub_Bottom_Length.",
     },
     ParamSpec {
         key: "lower_gear_diameter",
         kind: Real {
-            min: 3.5 * CM,
-            max: 4.5 * CM,
+            min: 0.035,
+            max: 0.045,
         },
-        default: D::Num(4.0 * CM),
+        default: D::Num(0.04),
         auto: Full,
         doc: "Outer diameter of the lower (A) or only (B) gear housing, m. Add-on: mf_Lower_Gear_Dia.",
     },
     ParamSpec {
         key: "lower_gear_position",
         kind: Real {
-            min: 3.6 * CM,
-            max: 4.2 * CM,
+            min: 0.036,
+            max: 0.042,
         },
-        default: D::Num(3.6 * CM),
+        default: D::Num(0.036),
         auto: Full,
         doc: "Height of the lower (or only) gear centre above the pole-pot top, m. Add-on: mf_Lower_Gear_Position.",
     },
     ParamSpec {
         key: "upper_gear_diameter",
         kind: Real {
-            min: 5.0 * CM,
-            max: 6.5 * CM,
+            min: 0.05,
+            max: 0.065,
         },
-        default: D::Num(5.5 * CM),
+        default: D::Num(0.055),
         auto: Full,
         doc: "Outer diameter of the upper gear housing (type A only), m. Add-on: mf_Upper_Gear_Dia.",
     },
     ParamSpec {
         key: "type_b_height_1",
         kind: Real {
-            min: 6.3 * CM,
-            max: 7.5 * CM,
+            min: 0.063,
+            max: 0.075,
         },
-        default: D::Num(7.0 * CM),
+        default: D::Num(0.07),
         auto: Full,
         doc: "Type B: height of the upper end of the gear-extension arm above the pole-pot top, m. The add-on's README range (1.7-4) and its script's U(6.3, 8) disagree with its property limits; these are the limits. Add-on: mf_Type_B_Height_1.",
     },
     ParamSpec {
         key: "type_b_height_2",
         kind: Real {
-            min: 3.0 * CM,
-            max: 6.0 * CM,
+            min: 0.03,
+            max: 0.06,
         },
-        default: D::Num(3.5 * CM),
+        default: D::Num(0.035),
         auto: Full,
         doc: "Type B: height of the lower end of the gear-extension arm above the pole-pot top, m. Add-on: mf_Type_B_Height_2.",
     },
     ParamSpec {
         key: "type_b_right_bolt_height",
         kind: Real {
-            min: 1.7 * CM,
-            max: 4.0 * CM,
+            min: 0.017,
+            max: 0.04,
         },
-        default: D::Num(2.5 * CM),
+        default: D::Num(0.025),
         auto: Full,
         doc: "Type B: height of the cover bolt beside the brush tower above the pole-pot top, m. Add-on: mf_Gear_Bolt_Right_B.",
     },
@@ -410,7 +408,9 @@ impl Kind {
     /// Whether `v` is an allowed value.
     pub fn accepts(&self, v: &Value) -> bool {
         match (*self, v) {
-            (Real { min, max }, Value::Num(x)) => (min..=max).contains(x),
+            // compared at the f32 precision the parameters are stored in, so values read back
+            // from written parameters pass again
+            (Real { min, max }, Value::Num(x)) => (min as f32..=max as f32).contains(&(*x as f32)),
             (Int { min, max, step }, Value::Num(x)) => {
                 x.fract() == 0.0
                     && (min as f64..=max as f64).contains(x)

@@ -143,7 +143,7 @@ impl ParamSpace {
                         spec.kind.allowed()
                     )));
                 }
-                if !(a <= b) {
+                if a > b {
                     return Err(bad(format!("uniform range [{a}, {b}] has min above max")));
                 }
                 if !spec.kind.accepts(&Value::Num(*a)) || !spec.kind.accepts(&Value::Num(*b)) {
@@ -292,4 +292,15 @@ fn draw_number(kind: &Kind, a: f64, b: f64, rng: &mut ChaCha8Rng) -> Value {
         }
         _ => Value::Num(a + (b - a) * unit(rng)),
     }
+}
+
+/// The seed of item `index` of a run seeded with `seed` (SplitMix64 finalisers): independent of
+/// how items are split over threads, jobs or shards.
+pub fn derive_seed(seed: u64, index: u64) -> u64 {
+    fn mix(mut z: u64) -> u64 {
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    mix(seed.wrapping_add(mix(index.wrapping_add(0x9e37_79b9_7f4a_7c15))))
 }

@@ -35,14 +35,6 @@ pub struct Pocket {
 }
 
 impl Section {
-    /// Vertices per ring.
-    pub fn len(&self) -> usize {
-        match *self {
-            Section::Circle { segments } => segments,
-            Section::FlatCircle { arc_segments, .. } => 2 * (arc_segments + 1),
-        }
-    }
-
     /// Whether the ring at `u` collapses to a point on the axis.
     fn collapses(&self, u: f32) -> bool {
         matches!(self, Section::Circle { .. }) && u <= 0.0

@@ -54,7 +54,12 @@ pub fn inspect(mesh: &Mesh) -> MeshReport {
         let [a, b, c] = t.map(|i| mesh.positions[i as usize].as_dvec3());
         let longest = (b - a).length().max((c - b).length()).max((a - c).length());
         let height = (b - a).cross(c - a).length() / longest;
-        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(height >= MIN_TRIANGLE_HEIGHT) {
+        if t[0] == t[1]
+            || t[1] == t[2]
+            || t[0] == t[2]
+            || height.is_nan()
+            || height < MIN_TRIANGLE_HEIGHT
+        {
             report.degenerate_triangles += 1;
         }
         for k in 0..3 {

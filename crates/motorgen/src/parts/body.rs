@@ -25,7 +25,10 @@ pub const HOLE_RADIUS: f32 = 0.175;
 /// The pot outline offset outwards by `u`, as a sweep section.
 fn pot_section(t: Tess, radius: f32, half_width: f32) -> Section {
     let arc = std::f32::consts::PI - 2.0 * (half_width / radius).acos();
-    let arc_segments = ((t.n(radius) as f32 * arc / std::f32::consts::TAU).ceil() as usize).max(2);
+    // even, so that the apex on ±y is a vertex and the outline keeps its full 4 cm depth
+    let arc_segments = ((t.n(radius) as f32 * arc / std::f32::consts::TAU).ceil() as usize)
+        .max(2)
+        .next_multiple_of(2);
     Section::FlatCircle {
         radius,
         half_width,

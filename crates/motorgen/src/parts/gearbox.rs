@@ -64,7 +64,11 @@ impl Layout {
         match p.motor_type {
             MotorType::A => {
                 // gearbox depth along the gear axis = the pot's extent in that direction
-                let l = if quarter_turns % 2 == 0 { 4.0 } else { 3.0 };
+                let l = if quarter_turns.is_multiple_of(2) {
+                    4.0
+                } else {
+                    3.0
+                };
                 let (rl, ru) = (d.lower_dia / 2.0, d.upper_dia / 2.0);
                 let cl = Vec2::new(rl, d.top + d.lower_pos);
                 let cu = Vec2::new(rl - 0.8, d.top + d.lower_pos + ru + 0.2);

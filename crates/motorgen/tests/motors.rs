@@ -1,0 +1,454 @@
+//! Built motors against their parameters: every part a valid solid, dimensions as asked, ground
+//! truth where the mesh is. The gearbox frame is recomputed here from the parameters alone.
+
+use std::collections::BTreeMap;
+
+use glam::{Vec2, Vec3};
+use motorgen::kernel::inspect;
+use motorgen::params::{MotorType, Value};
+use motorgen::{Detail, Motor, MotorParams, ParamSpace, PartKind, build};
+use proptest::prelude::*;
+
+/// Length tolerance for measured dimensions: f32 coordinates and the cm→m scaling.
+const TOL: f32 = 2e-6;
+
+fn params(pairs: &[(&str, Value)]) -> MotorParams {
+    let map: BTreeMap<String, Value> = pairs
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.clone()))
+        .collect();
+    MotorParams::from_values(&map).unwrap()
+}
+
+/// The gearbox's in-plane horizontal direction u (v is the motor axis), from the parameters.
+fn gearbox_u(p: &MotorParams) -> Vec3 {
+    let base = match p.motor_type {
+        MotorType::A => Vec3::X,
+        MotorType::B => Vec3::Y,
+    };
+    let mirrored = if p.mirror { -base } else { base };
+    glam::Quat::from_rotation_z(-(p.gearbox_orientation_deg as f32).to_radians()) * mirrored
+}
+
+fn parts(m: &Motor, kind: PartKind) -> Vec<&motorgen::Part> {
+    m.parts.iter().filter(|p| p.kind == kind).collect()
+}
+
+fn check_motor(p: &MotorParams, detail: Detail) -> Result<(), TestCaseError> {
+    let m = build(p, detail);
+    // every part a closed, oriented, non-degenerate solid; instances unique from 1
+    for (i, part) in m.parts.iter().enumerate() {
+        let rep = inspect(&part.mesh);
+        prop_assert!(rep.is_valid_solid(), "{} of {:?}: {:?}", part.name, p, rep);
+        prop_assert_eq!(part.instance as usize, i + 1);
+    }
+
+    // pole pot: shaft boss + pot length along z, 3 x 4 cm across
+    let pot = parts(&m, PartKind::PolePot)[0].mesh.bounds();
+    prop_assert!(
+        (pot.size().z - (p.pole_pot_length + p.shaft_boss_length)).abs() < TOL,
+        "{pot:?}"
+    );
+    prop_assert!(
+        (pot.size().x - 0.03).abs() < TOL && (pot.size().y - 0.04).abs() < TOL,
+        "{pot:?}"
+    );
+    prop_assert!(pot.min.z.abs() < TOL);
+
+    // bolt counts
+    let (side, cover) = (
+        parts(&m, PartKind::SideBolt),
+        parts(&m, PartKind::CoverBolt),
+    );
+    prop_assert_eq!(side.len(), 2);
+    let expect_cover = match p.motor_type {
+        MotorType::A => 2 + p.upper_bolt_count as usize,
+        MotorType::B => p.b_bolt_count as usize + 1,
+    };
+    prop_assert_eq!(cover.len(), expect_cover);
+    prop_assert_eq!(m.attributes.bolts.len(), 2 + expect_cover);
+
+    // each bolt's drive face: no vertex beyond it, and the head centred on it
+    for (b, part) in m.attributes.bolts.iter().zip(side.iter().chain(&cover)) {
+        prop_assert_eq!(&b.name, &part.name);
+        let heights: Vec<f32> = part
+            .mesh
+            .positions
+            .iter()
+            .map(|v| (*v - b.head_center).dot(-b.axis))
+            .collect();
+        prop_assert!(heights.iter().all(|h| *h < TOL));
+        prop_assert!(heights.iter().any(|h| h.abs() < TOL));
+        let off_axis = part.mesh.bounds().center() - b.head_center;
+        prop_assert!(
+            (off_axis - off_axis.dot(b.axis) * b.axis).length() < 1e-4,
+            "{} off axis {off_axis}",
+            b.name
+        );
+    }
+
+    // gears and cover bolts in the gearbox plane: housing circles where the ground truth says,
+    // bolts at the parameter angles on radius R + 3.6 mm
+    let (u, v) = (gearbox_u(p), Vec3::Z);
+    let container = &parts(&m, PartKind::GearContainer)[0].mesh;
+    let expected_gears: Vec<(PartKind, f32)> = match p.motor_type {
+        MotorType::A => vec![
+            (PartKind::LowerGear, p.lower_gear_diameter),
+            (PartKind::UpperGear, p.upper_gear_diameter),
+        ],
+        MotorType::B => vec![(PartKind::SingleGear, p.lower_gear_diameter)],
+    };
+    prop_assert_eq!(m.attributes.gears.len(), expected_gears.len());
+    for (g, (kind, dia)) in m.attributes.gears.iter().zip(&expected_gears) {
+        prop_assert_eq!(g.kind, *kind);
+        prop_assert!(
+            g.axis.dot(u).abs() < 1e-6 && g.axis.dot(v).abs() < 1e-6,
+            "axis {} not normal to the cover plane",
+            g.axis
+        );
+        let on_rim = container
+            .positions
+            .iter()
+            .filter(|q| {
+                let d = **q - g.center;
+                let radial = (d - d.dot(g.axis) * g.axis).length();
+                (radial - dia / 2.0).abs() < TOL && d.dot(g.axis) < TOL
+            })
+            .count();
+        prop_assert!(
+            on_rim >= 16,
+            "{:?}: only {on_rim} container vertices on the housing circle",
+            kind
+        );
+        let inner = parts(&m, *kind)[0].mesh.bounds();
+        prop_assert!(g.gear_diameter < *dia && (inner.center() - g.center).dot(u).abs() < 1e-4);
+    }
+    let angle_of = |centre: Vec3, point: Vec3| {
+        let d = point - centre;
+        (d.dot(v).atan2(d.dot(u)).to_degrees() + 360.0) % 360.0
+    };
+    let on_gear = |k: usize,
+                   dia: f32,
+                   angles: Vec<f32>,
+                   bolts: &[&motorgen::model::BoltAttr]|
+     -> Result<(), TestCaseError> {
+        let g = &m.attributes.gears[k];
+        for (a, b) in angles.iter().zip(bolts) {
+            let d = b.head_center - g.center;
+            let radial = (d - d.dot(g.axis) * g.axis).length();
+            prop_assert!(
+                (radial - (dia / 2.0 + 0.0036)).abs() < 2e-5,
+                "{} at radius {radial}",
+                b.name
+            );
+            prop_assert!(
+                ((angle_of(g.center, b.head_center) - a + 540.0) % 360.0 - 180.0).abs() < 0.01,
+                "{} angle",
+                b.name
+            );
+            prop_assert!(
+                b.axis.dot(g.axis) < -0.9999,
+                "{} screws into the cover",
+                b.name
+            );
+        }
+        Ok(())
+    };
+    let cover_bolts: Vec<_> = m
+        .attributes
+        .bolts
+        .iter()
+        .filter(|b| b.kind == PartKind::CoverBolt)
+        .collect();
+    match p.motor_type {
+        MotorType::A => {
+            on_gear(
+                0,
+                p.lower_gear_diameter,
+                vec![p.lower_bolt_1_deg, p.lower_bolt_2_deg],
+                &cover_bolts[..2],
+            )?;
+            on_gear(
+                1,
+                p.upper_gear_diameter,
+                p.upper_bolt_angles_deg(),
+                &cover_bolts[2..],
+            )?;
+        }
+        MotorType::B => {
+            on_gear(
+                0,
+                p.lower_gear_diameter,
+                p.b_bolt_angles_deg(),
+                &cover_bolts,
+            )?;
+            let right = cover_bolts.last().unwrap().head_center;
+            prop_assert!(
+                (right.z - (m.attributes.pole_pot_top + p.type_b_right_bolt_height)).abs() < TOL
+            );
+        }
+    }
+    // the attribute summary matches the meshes
+    for (a, part) in m.attributes.parts.iter().zip(&m.parts) {
+        prop_assert_eq!(a.triangles, part.mesh.triangle_count());
+        prop_assert!(a.volume > 0.0);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1200, ..ProptestConfig::default() })]
+
+    /// Random motors from the add-on's generator (every type, extension, orientation, mirror,
+    /// drive and bolt layout).
+    #[test]
+    fn random_motors_are_valid_and_measure_right(seed in any::<u64>()) {
+        let p = ParamSpace::addon().sample(seed).unwrap();
+        check_motor(&p, Detail::Coarse)?;
+    }
+}
+
+#[test]
+fn every_variant_at_every_detail() {
+    for (ty, ext) in [
+        ("A", "type1"),
+        ("A", "type2"),
+        ("A", "none"),
+        ("B", "type1"),
+        ("B", "none"),
+    ] {
+        let key = if ty == "A" {
+            "extension_a"
+        } else {
+            "extension_b"
+        };
+        let p = params(&[
+            ("type", Value::Text(ty.into())),
+            (key, Value::Text(ext.into())),
+        ]);
+        for detail in [Detail::Coarse, Detail::Normal, Detail::Fine] {
+            check_motor(&p, detail).unwrap();
+        }
+    }
+}
+
+#[test]
+fn extension_shapes_differ_and_change_only_the_cover() {
+    let cover_of = |ext: &str| {
+        let m = build(
+            &params(&[("extension_a", Value::Text(ext.into()))]),
+            Detail::Coarse,
+        );
+        (
+            m.parts
+                .iter()
+                .find(|p| p.kind == PartKind::Cover)
+                .unwrap()
+                .mesh
+                .clone(),
+            m,
+        )
+    };
+    let (one, m1) = cover_of("type1");
+    let (two, _) = cover_of("type2");
+    let (none, m0) = cover_of("none");
+    assert!(one.bounds() != two.bounds() && one.bounds() != none.bounds());
+    assert!(
+        none.triangle_count() < one.triangle_count() && one.triangle_count() < two.triangle_count()
+    );
+    for (a, b) in m1.parts.iter().zip(&m0.parts) {
+        if a.kind != PartKind::Cover {
+            assert_eq!(a.mesh, b.mesh, "{} changed with the cover shape", a.name);
+        }
+    }
+}
+
+#[test]
+fn orientation_turns_the_gearbox_but_not_the_body() {
+    let at = |deg: f64| {
+        build(
+            &params(&[("gearbox_orientation_deg", Value::Num(deg))]),
+            Detail::Coarse,
+        )
+    };
+    let (r0, r90) = (at(0.0), at(90.0));
+    for (a, b) in r0.parts.iter().zip(&r90.parts) {
+        let fixed = matches!(
+            a.kind,
+            PartKind::PolePot
+                | PartKind::Magnet
+                | PartKind::Armature
+                | PartKind::ElectricConnection
+                | PartKind::SideBolt
+        );
+        assert_eq!(fixed, a.mesh == b.mesh, "{}", a.name);
+    }
+    // r0 gear axis is -y (cover towards the connector side), r90 turns it by -90° about z
+    assert!((r0.attributes.gears[0].axis - Vec3::NEG_Y).length() < 1e-6);
+    assert!((r90.attributes.gears[0].axis - Vec3::NEG_X).length() < 1e-6);
+}
+
+#[test]
+fn mirror_reflects_the_gearbox() {
+    let m = build(&params(&[("mirror", Value::Bool(true))]), Detail::Coarse);
+    let plain = build(&MotorParams::default(), Detail::Coarse);
+    let (a, b) = (
+        m.attributes.gears[0].center,
+        plain.attributes.gears[0].center,
+    );
+    assert!((a - Vec3::new(-b.x, b.y, b.z)).length() < 1e-6);
+}
+
+#[test]
+fn teeth_inclination_shears_the_teeth() {
+    let gear = |deg: f64| {
+        let m = build(
+            &params(&[("teeth_inclination_deg", Value::Num(deg))]),
+            Detail::Coarse,
+        );
+        m.parts
+            .iter()
+            .find(|p| p.kind == PartKind::UpperGear)
+            .unwrap()
+            .mesh
+            .clone()
+    };
+    let (flat, left, right) = (gear(0.0), gear(-15.0), gear(15.0));
+    assert_ne!(flat, left);
+    assert_ne!(left, right);
+    // same tooth profile, only the top face turned: same vertex count, nearly the same volume
+    assert_eq!(flat.positions.len(), left.positions.len());
+    assert!((left.signed_volume() / flat.signed_volume() - 1.0).abs() < 0.05);
+}
+
+#[test]
+fn bolt_rotations_same_and_random() {
+    let same = build(
+        &params(&[("bolt_rotation_deg", Value::Num(75.0))]),
+        Detail::Coarse,
+    );
+    assert!(
+        same.attributes
+            .bolts
+            .iter()
+            .all(|b| b.rotation_deg == 75.0 && b.rotation_mod_deg == 15.0)
+    );
+    let random = build(
+        &params(&[
+            ("bolt_orientation", Value::Text("random".into())),
+            ("bolt_seed", Value::Num(3.0)),
+        ]),
+        Detail::Coarse,
+    );
+    let angles: Vec<f32> = random
+        .attributes
+        .bolts
+        .iter()
+        .map(|b| b.rotation_deg)
+        .collect();
+    assert!(
+        angles
+            .iter()
+            .all(|a| a.fract() == 0.0 && (0.0..360.0).contains(a))
+    );
+    assert!(angles.windows(2).any(|w| w[0] != w[1]), "{angles:?}");
+    // the recess turns with the angle: meshes differ, vertex counts do not
+    let turned = build(
+        &params(&[("bolt_rotation_deg", Value::Num(20.0))]),
+        Detail::Coarse,
+    );
+    let (a, b) = (
+        &same
+            .parts
+            .iter()
+            .find(|p| p.kind == PartKind::CoverBolt)
+            .unwrap()
+            .mesh,
+        &turned
+            .parts
+            .iter()
+            .find(|p| p.kind == PartKind::CoverBolt)
+            .unwrap()
+            .mesh,
+    );
+    assert_ne!(a, b);
+    assert_eq!(a.positions.len(), b.positions.len());
+}
+
+#[test]
+fn every_drive_builds_a_distinct_recess() {
+    let meshes: Vec<_> = ["torx", "slot", "cross", "allen"]
+        .iter()
+        .map(|d| {
+            let m = build(
+                &params(&[("bolt_drive", Value::Text(d.to_string()))]),
+                Detail::Normal,
+            );
+            m.parts
+                .iter()
+                .find(|p| p.kind == PartKind::SideBolt)
+                .unwrap()
+                .mesh
+                .clone()
+        })
+        .collect();
+    for i in 0..4 {
+        assert!(inspect(&meshes[i]).is_valid_solid());
+        for j in i + 1..4 {
+            assert_ne!(meshes[i].signed_volume(), meshes[j].signed_volume());
+        }
+    }
+}
+
+#[test]
+fn exploded_view_moves_parts_apart() {
+    let m = build(&MotorParams::default(), Detail::Coarse);
+    let e = m.exploded(1.0);
+    let pot = |m: &Motor| m.parts[0].mesh.bounds().max.z;
+    assert!(pot(&e) < pot(&m) - 0.05);
+    let cover = |m: &Motor| {
+        m.parts
+            .iter()
+            .find(|p| p.kind == PartKind::Cover)
+            .unwrap()
+            .mesh
+            .bounds()
+            .center()
+    };
+    // cover moves out along its gear axis (-y at r0)
+    assert!((cover(&e) - cover(&m)).dot(Vec3::NEG_Y) > 0.04);
+    assert_eq!(m.exploded(0.0).parts, m.parts);
+}
+
+#[test]
+fn unused_parameters_do_not_change_the_motor() {
+    let b = |extra: &[(&str, Value)]| {
+        let mut pairs = vec![("type", Value::Text("B".into()))];
+        pairs.extend_from_slice(extra);
+        build(&params(&pairs), Detail::Coarse).parts
+    };
+    assert_eq!(
+        b(&[]),
+        b(&[
+            ("upper_gear_diameter", Value::Num(0.06)),
+            ("upper_bolt_count", Value::Num(3.0))
+        ])
+    );
+}
+
+#[test]
+fn circle_union_cover_is_one_shell() {
+    let m = build(
+        &params(&[("extension_a", Value::Text("none".into()))]),
+        Detail::Normal,
+    );
+    let cover = &m
+        .parts
+        .iter()
+        .find(|p| p.kind == PartKind::Cover)
+        .unwrap()
+        .mesh;
+    // union plate + hub ring + hub + 4 lugs, none of them needing a boolean
+    assert_eq!(inspect(cover).shells, 1 + 2 + 4);
+    let _ = Vec2::ZERO;
+}

@@ -1,0 +1,32 @@
+//! CLI errors and their exit codes.
+
+/// A failure of a command: bad input (exit 2, nothing written) or a failure while working (exit 1).
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// Bad arguments, configuration or output location, found before anything is written.
+    #[error("{0}")]
+    Usage(String),
+    /// A failure after work began.
+    #[error("{0}")]
+    Runtime(String),
+}
+
+impl CliError {
+    /// The process exit code.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            CliError::Usage(_) => 2,
+            CliError::Runtime(_) => 1,
+        }
+    }
+}
+
+/// Library errors met while checking input are usage errors.
+impl From<motorgen::Error> for CliError {
+    fn from(e: motorgen::Error) -> Self {
+        CliError::Usage(e.to_string())
+    }
+}
+
+/// Result with [`CliError`].
+pub type CliResult<T> = Result<T, CliError>;
