@@ -109,7 +109,9 @@ pub fn write_motor(
     Ok(written)
 }
 
-/// Writes a file through a buffered temporary file in the same folder, then renames it.
+/// Writes a file through a buffered temporary file in the same folder, then renames it: a killed
+/// process leaves the old file or the new one, never a part. (No fsync: that would add
+/// power-loss durability at about thirty times the cost of a motor's files.)
 pub fn write_atomic(
     path: &Path,
     body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
@@ -121,7 +123,7 @@ pub fn write_atomic(
     let result = (|| {
         let mut w = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
         body(&mut w)?;
-        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        w.into_inner().map_err(|e| e.into_error())?;
         std::fs::rename(&tmp, path)
     })();
     result.map_err(|e| {
