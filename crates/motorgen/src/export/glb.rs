@@ -25,7 +25,12 @@ pub fn write_glb(w: &mut dyn Write, parts: &[&Part]) -> Result<()> {
         extensions: None,
         extras: Default::default(),
     });
-    let materials: Vec<_> = MATERIALS
+    // the materials the parts use, in table order
+    let used: Vec<_> = MATERIALS
+        .iter()
+        .filter(|m| parts.iter().any(|p| p.kind.material().name == m.name))
+        .collect();
+    let materials: Vec<_> = used
         .iter()
         .map(|m| {
             root.push(json::Material {
@@ -101,7 +106,7 @@ pub fn write_glb(w: &mut dyn Write, parts: &[&Part]) -> Result<()> {
             json::accessor::ComponentType::U32,
             None,
         );
-        let material = MATERIALS
+        let material = used
             .iter()
             .position(|m| m.name == p.kind.material().name)
             .map(|i| materials[i]);
