@@ -1,0 +1,169 @@
+//! The BVH against brute force over random triangle soups, and against analytic shapes.
+
+use glam::Vec3;
+use proptest::prelude::*;
+use sensor::Bvh;
+
+fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, u32)> {
+    let mut best: Option<(f32, u32)> = None;
+    for (i, [a, b, c]) in tris.iter().enumerate() {
+        let (e1, e2) = (*b - *a, *c - *a);
+        let n = e1.cross(e2);
+        let denom = n.dot(d);
+        if denom.abs() < 1e-12 {
+            continue;
+        }
+        let t = n.dot(*a - o) / denom;
+        if t <= 0.0 || t >= t_max || best.is_some_and(|(bt, _)| t >= bt) {
+            continue;
+        }
+        let p = o + t * d;
+        // inside test by sub-triangle orientations
+        let inside = [(*a, *b), (*b, *c), (*c, *a)]
+            .iter()
+            .all(|(x, y)| (*y - *x).cross(p - *x).dot(n) >= -1e-9);
+        if inside {
+            best = Some((t, i as u32));
+        }
+    }
+    best
+}
+
+fn v3() -> impl Strategy<Value = Vec3> {
+    (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    #[test]
+    fn closest_hit_and_occlusion_match_brute_force(
+        centres in prop::collection::vec(v3(), 1..400),
+        offsets in prop::collection::vec((v3(), v3()), 400),
+        rays in prop::collection::vec((v3(), v3()), 64),
+    ) {
+        let tris: Vec<[Vec3; 3]> = centres
+            .iter()
+            .zip(&offsets)
+            .map(|(c, (p, q))| [*c, *c + 0.2 * *p, *c + 0.2 * *q])
+            .collect();
+        let bvh = Bvh::build(&tris);
+        prop_assert_eq!(bvh.len(), tris.len());
+        for (o, d) in &rays {
+            let o = *o * 2.0;
+            let Some(d) = d.try_normalize() else { continue };
+            let got = bvh.cast(o, d, 10.0);
+            let want = brute(&tris, o, d, 10.0);
+            match (got, want) {
+                (None, None) => {}
+                (Some(h), Some((t, i))) => {
+                    prop_assert!((h.t - t).abs() < 1e-4, "t {} vs {}", h.t, t);
+                    if h.triangle != i {
+                        // a different triangle only at a tie
+                        let other = brute(&[tris[h.triangle as usize]], o, d, 10.0).map(|x| x.0);
+                        prop_assert!(other.is_some_and(|x| (x - t).abs() < 1e-4));
+                    }
+                    let p = tris[h.triangle as usize];
+                    let hit = p[0] + h.u * (p[1] - p[0]) + h.v * (p[2] - p[0]);
+                    prop_assert!((hit - (o + h.t * d)).length() < 1e-4);
+                }
+                // grazing edge hits may differ between the two tests by rounding
+                (g, w) => prop_assert!(false, "bvh {:?} vs brute {:?}", g, w),
+            }
+            prop_assert_eq!(bvh.occluded(o, d, 10.0), want.is_some());
+            if let Some((t, _)) = want {
+                prop_assert!(!bvh.occluded(o, d, t * 0.999) || brute(&tris, o, d, t * 0.999).is_some());
+            }
+        }
+    }
+}
+
+#[test]
+fn single_triangle_and_empty() {
+    let bvh = Bvh::build(&[[
+        Vec3::new(-1.0, -1.0, 2.0),
+        Vec3::new(1.0, -1.0, 2.0),
+        Vec3::new(0.0, 1.0, 2.0),
+    ]]);
+    let h = bvh.cast(Vec3::ZERO, Vec3::Z, 100.0).unwrap();
+    assert!((h.t - 2.0).abs() < 1e-6 && h.triangle == 0);
+    assert!(bvh.cast(Vec3::ZERO, -Vec3::Z, 100.0).is_none());
+    assert!(Bvh::build(&[]).cast(Vec3::ZERO, Vec3::Z, 1.0).is_none());
+}
+
+#[test]
+fn large_grid_uses_ploc_and_stays_exact() {
+    // a 300 x 300 quad grid (180k triangles) at z = 1.5: every ray down the z axis hits it at 1.5
+    let n = 300;
+    let mut tris = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            let p = |a: usize, b: usize| {
+                Vec3::new(a as f32 / n as f32 - 0.5, b as f32 / n as f32 - 0.5, 1.5)
+            };
+            tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+            tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+        }
+    }
+    let bvh = Bvh::build(&tris);
+    for k in 0..1000 {
+        let x = (k % 37) as f32 / 37.0 - 0.49;
+        let y = (k / 37) as f32 / 28.0 - 0.49;
+        let h = bvh.cast(Vec3::new(x, y, 0.0), Vec3::Z, 10.0).unwrap();
+        assert!((h.t - 1.5).abs() < 1e-6);
+        // a good tree: a few dozen nodes and a handful of triangles per ray, not thousands
+        let (nodes, leaves) = bvh.cost(Vec3::new(x, y, 0.0), Vec3::Z, 10.0);
+        assert!(nodes < 80 && leaves < 8, "{nodes} nodes, {leaves} leaves");
+    }
+}
+
+/// A closed cube of side 2 about the origin, each face an n x n grid of quad pairs.
+fn grid_cube(n: usize) -> Vec<[Vec3; 3]> {
+    let mut tris = Vec::new();
+    for axis in 0..3 {
+        for side in [-1.0f32, 1.0] {
+            let p = |i: usize, j: usize| {
+                let (a, b) = (
+                    2.0 * i as f32 / n as f32 - 1.0,
+                    2.0 * j as f32 / n as f32 - 1.0,
+                );
+                let mut v = [0.0; 3];
+                v[axis] = side;
+                v[(axis + 1) % 3] = a;
+                v[(axis + 2) % 3] = b;
+                Vec3::from(v)
+            };
+            for i in 0..n {
+                for j in 0..n {
+                    tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+                    tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+                }
+            }
+        }
+    }
+    tris
+}
+
+#[test]
+fn watertight_through_vertices_and_edges() {
+    let tris = grid_cube(24);
+    let bvh = Bvh::build(&tris);
+    let mut targets: Vec<Vec3> = Vec::new();
+    for t in &tris {
+        targets.extend(t.iter().copied());
+        targets.extend([
+            (t[0] + t[1]) * 0.5,
+            (t[1] + t[2]) * 0.5,
+            (t[2] + t[0]) * 0.5,
+        ]);
+    }
+    for origin in [Vec3::ZERO, Vec3::new(0.1, -0.23, 0.31)] {
+        for target in &targets {
+            let d = (*target - origin).normalize();
+            let h = bvh
+                .cast(origin, d, 10.0)
+                .expect("a ray from inside a closed mesh always hits");
+            assert!((h.t - (*target - origin).length()).abs() < 1e-5);
+        }
+    }
+}
