@@ -83,7 +83,12 @@ impl Bvh {
             .map(|n| n.prim)
             .collect();
         // renumber leaves in traversal order so that neighbouring leaves share cache lines
-        for (slot, n) in bvh.nodes.iter_mut().filter(|n| n.prim != INTERNAL).enumerate() {
+        for (slot, n) in bvh
+            .nodes
+            .iter_mut()
+            .filter(|n| n.prim != INTERNAL)
+            .enumerate()
+        {
             n.prim = slot as u32;
         }
         bvh.tris = bvh.order.iter().map(|&i| triangles[i as usize]).collect();

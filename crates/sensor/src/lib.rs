@@ -4,5 +4,17 @@
 #![warn(missing_docs)]
 
 pub mod bvh;
+pub mod camera;
+mod error;
+pub mod noise;
+pub mod scan;
+pub mod scene;
+pub mod sensor;
 
 pub use bvh::{Bvh, Hit};
+pub use camera::{Distortion, Intrinsics, look_at};
+pub use error::Error;
+pub use noise::Noise;
+pub use scan::{Pixel, Scan, scan};
+pub use scene::{Classes, Material, Scene, Target};
+pub use sensor::{Model, PRESETS, Projector, SensorSpec};

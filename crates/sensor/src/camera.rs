@@ -1,0 +1,219 @@
+//! Pinhole cameras with Brown–Conrady distortion (OpenCV's k1, k2, p1, p2, k3, as Zivid reports
+//! them), binning and poses. Camera frame as OpenCV and Zivid: x right (towards the projector),
+//! y down, z forward. Pixel (u, v) = (column, row) has its centre at integer coordinates.
+
+use glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+
+/// Brown–Conrady lens distortion in normalised image coordinates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Distortion {
+    /// Radial r² coefficient.
+    pub k1: f64,
+    /// Radial r⁴ coefficient.
+    pub k2: f64,
+    /// Radial r⁶ coefficient.
+    pub k3: f64,
+    /// Tangential coefficient 1.
+    pub p1: f64,
+    /// Tangential coefficient 2.
+    pub p2: f64,
+}
+
+impl Distortion {
+    /// Whether all coefficients are zero.
+    pub fn is_none(&self) -> bool {
+        *self == Distortion::default()
+    }
+
+    /// Distorts ideal normalised coordinates (x, y) = (X/Z, Y/Z).
+    pub fn distort(&self, x: f64, y: f64) -> (f64, f64) {
+        let r2 = x * x + y * y;
+        let radial = 1.0 + r2 * (self.k1 + r2 * (self.k2 + r2 * self.k3));
+        let dx = 2.0 * self.p1 * x * y + self.p2 * (r2 + 2.0 * x * x);
+        let dy = self.p1 * (r2 + 2.0 * y * y) + 2.0 * self.p2 * x * y;
+        (x * radial + dx, y * radial + dy)
+    }
+
+    /// Inverts [`Distortion::distort`] by fixed-point iteration (as OpenCV's undistortPoints),
+    /// to 1e-12 or 50 iterations.
+    pub fn undistort(&self, xd: f64, yd: f64) -> (f64, f64) {
+        if self.is_none() {
+            return (xd, yd);
+        }
+        let (mut x, mut y) = (xd, yd);
+        for _ in 0..50 {
+            let r2 = x * x + y * y;
+            let radial = 1.0 + r2 * (self.k1 + r2 * (self.k2 + r2 * self.k3));
+            let dx = 2.0 * self.p1 * x * y + self.p2 * (r2 + 2.0 * x * x);
+            let dy = self.p1 * (r2 + 2.0 * y * y) + 2.0 * self.p2 * x * y;
+            let (nx, ny) = ((xd - dx) / radial, (yd - dy) / radial);
+            let step = (nx - x).abs().max((ny - y).abs());
+            (x, y) = (nx, ny);
+            if step < 1e-12 {
+                break;
+            }
+        }
+        (x, y)
+    }
+}
+
+/// Image size, focal lengths and principal point in pixels, and lens distortion.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Intrinsics {
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// Focal length along x, pixels.
+    pub fx: f64,
+    /// Focal length along y, pixels.
+    pub fy: f64,
+    /// Principal point column.
+    pub cx: f64,
+    /// Principal point row.
+    pub cy: f64,
+    /// Lens distortion.
+    #[serde(default)]
+    pub distortion: Distortion,
+}
+
+impl Intrinsics {
+    /// An undistorted camera with the principal point at the image centre and the given full
+    /// horizontal and vertical fields of view, degrees.
+    pub fn from_fov(width: u32, height: u32, hfov_deg: f64, vfov_deg: f64) -> Intrinsics {
+        let f = |n: u32, fov: f64| n as f64 / 2.0 / (fov.to_radians() / 2.0).tan();
+        Intrinsics {
+            width,
+            height,
+            fx: f(width, hfov_deg),
+            fy: f(height, vfov_deg),
+            cx: (width as f64 - 1.0) / 2.0,
+            cy: (height as f64 - 1.0) / 2.0,
+            distortion: Distortion::default(),
+        }
+    }
+
+    /// Checks that the camera can exist: a non-empty image, positive finite focal lengths, the
+    /// principal point on the image, finite distortion that keeps the image one-to-one.
+    pub fn validate(&self) -> Result<(), Error> {
+        let bad = |what: &str, value: String, allowed: &str| {
+            Err(Error::Invalid {
+                key: format!("intrinsics.{what}"),
+                value,
+                allowed: allowed.into(),
+            })
+        };
+        if self.width == 0 || self.height == 0 || self.width > 16384 || self.height > 16384 {
+            return bad(
+                "width/height",
+                format!("{}x{}", self.width, self.height),
+                "1 to 16384 pixels each",
+            );
+        }
+        for (name, f) in [("fx", self.fx), ("fy", self.fy)] {
+            if !(f.is_finite() && f > 0.0) {
+                return bad(name, f.to_string(), "a positive focal length in pixels");
+            }
+        }
+        if !(self.cx >= -0.5 && self.cx <= self.width as f64 - 0.5) {
+            return bad("cx", self.cx.to_string(), "a column on the image");
+        }
+        if !(self.cy >= -0.5 && self.cy <= self.height as f64 - 0.5) {
+            return bad("cy", self.cy.to_string(), "a row on the image");
+        }
+        let d = self.distortion;
+        if ![d.k1, d.k2, d.k3, d.p1, d.p2]
+            .iter()
+            .all(|c| c.is_finite() && c.abs() < 100.0)
+        {
+            return bad(
+                "distortion",
+                format!("{d:?}"),
+                "finite coefficients below 100 in magnitude",
+            );
+        }
+        // the distortion must map the image corners back consistently
+        for (u, v) in [
+            (0.0, 0.0),
+            (self.width as f64 - 1.0, self.height as f64 - 1.0),
+            (0.0, self.height as f64 - 1.0),
+        ] {
+            let (x, y) = d.undistort((u - self.cx) / self.fx, (v - self.cy) / self.fy);
+            let (xd, yd) = d.distort(x, y);
+            let err = ((xd * self.fx + self.cx - u).abs()).max((yd * self.fy + self.cy - v).abs());
+            if err.is_nan() || err >= 1e-3 {
+                return bad(
+                    "distortion",
+                    format!("{d:?}"),
+                    "coefficients whose distortion can be inverted over the image",
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The camera with `factor`×`factor` pixels binned into one (1, 2 or 4 on Zivid cameras).
+    pub fn binned(&self, factor: u32) -> Intrinsics {
+        let f = factor as f64;
+        Intrinsics {
+            width: self.width / factor,
+            height: self.height / factor,
+            fx: self.fx / f,
+            fy: self.fy / f,
+            cx: (self.cx + 0.5) / f - 0.5,
+            cy: (self.cy + 0.5) / f - 0.5,
+            distortion: self.distortion,
+        }
+    }
+
+    /// Unit direction, in the camera frame, of the ray through pixel coordinates (u, v).
+    #[inline]
+    pub fn ray(&self, u: f64, v: f64) -> Vec3 {
+        let (x, y) = self
+            .distortion
+            .undistort((u - self.cx) / self.fx, (v - self.cy) / self.fy);
+        Vec3::new(x as f32, y as f32, 1.0).normalize()
+    }
+
+    /// Pixel coordinates (u, v) of a camera-frame point in front of the camera.
+    pub fn project(&self, p: Vec3) -> Option<(f64, f64)> {
+        if p.z <= 0.0 {
+            return None;
+        }
+        let (x, y) = self
+            .distortion
+            .distort(p.x as f64 / p.z as f64, p.y as f64 / p.z as f64);
+        Some((x * self.fx + self.cx, y * self.fy + self.cy))
+    }
+
+    /// Full horizontal and vertical fields of view through the principal point, degrees
+    /// (ignoring distortion).
+    pub fn fov_deg(&self) -> (f64, f64) {
+        let half = |n: f64, c: f64, f: f64| ((c + 0.5) / f).atan() + ((n - c - 0.5) / f).atan();
+        (
+            half(self.width as f64, self.cx, self.fx).to_degrees(),
+            half(self.height as f64, self.cy, self.fy).to_degrees(),
+        )
+    }
+}
+
+/// The camera-to-world pose of a camera at `eye` looking at `target`, with image "up" as close
+/// to `up` as possible (x right, y down, z forward). Looking along `up` itself, world +y (or +x)
+/// serves as up.
+pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Option<Affine3A> {
+    let forward = (target - eye).try_normalize()?;
+    let right = [up, Vec3::Y, Vec3::X].into_iter().find_map(|u| {
+        let r = forward.cross(u);
+        (r.length() > 1e-3).then(|| r.normalize())
+    })?;
+    let down = forward.cross(right);
+    Some(Affine3A {
+        matrix3: Mat3A::from_cols(right.into(), down.into(), forward.into()),
+        translation: Vec3A::from(eye),
+    })
+}

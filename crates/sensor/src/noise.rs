@@ -1,0 +1,221 @@
+//! Noise models, each off by default and composable, and the counter-based random numbers that
+//! drive them: every draw is a pure function of (scan seed, pixel, stream), so a scan's bytes do
+//! not depend on thread count or tiling.
+
+use serde::{Deserialize, Serialize};
+
+/// Random draws keyed by (seed, pixel, stream): SplitMix64 finalisers over the key, a
+/// counter-based generator in the sense of Salmon et al. (SC'11), without state to share.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelRng {
+    key: u64,
+}
+
+impl PixelRng {
+    /// The generator of one pixel of a scan.
+    #[inline]
+    pub fn new(seed: u64, pixel: u64) -> PixelRng {
+        PixelRng {
+            key: mix(seed ^ mix(pixel.wrapping_add(0x9e37_79b9_7f4a_7c15))),
+        }
+    }
+
+    /// 64 random bits of stream `k`.
+    #[inline]
+    pub fn bits(self, k: u64) -> u64 {
+        mix(self.key.wrapping_add(k.wrapping_mul(0xd1b5_4a32_d192_ed03)))
+    }
+
+    /// Uniform in [0, 1).
+    #[inline]
+    pub fn uniform(self, k: u64) -> f32 {
+        (self.bits(k) >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+    }
+
+    /// Standard normal (Box–Muller over streams `k` and `k + 1`).
+    #[inline]
+    pub fn normal(self, k: u64) -> f32 {
+        let u1 = ((self.bits(k) >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64);
+        let u2 = (self.bits(k + 1) >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+        ((-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()) as f32
+    }
+}
+
+#[inline]
+fn mix(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// Streams of [`PixelRng`], one per use, so that switching one model on never shifts another's
+/// draws.
+pub mod stream {
+    /// Axial noise (two draws).
+    pub const AXIAL: u64 = 0;
+    /// Lateral jitter, u and v (two draws each).
+    pub const LATERAL: u64 = 2;
+    /// Random and low-signal dropout.
+    pub const DROPOUT: u64 = 6;
+    /// Specular saturation.
+    pub const SPECULAR: u64 = 7;
+    /// Mixed pixels at depth edges (decision and blend).
+    pub const EDGE: u64 = 8;
+    /// Kinect disparity noise (two draws).
+    pub const DISPARITY: u64 = 10;
+    /// Per-scan bias (drawn once, from the pixel index `u64::MAX`).
+    pub const BIAS: u64 = 12;
+}
+
+/// All noise models of a sensor. Each is off at its default.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Noise {
+    /// Gaussian range noise along the ray.
+    pub axial: Axial,
+    /// Growth of the axial noise towards grazing incidence.
+    pub incidence: Incidence,
+    /// Gaussian jitter of the pixel's sampling position, pixels (σ).
+    pub lateral_px: f32,
+    /// Range quantisation step, metres (0 = none).
+    pub quantization: f32,
+    /// Missing returns: at random and from low signal.
+    pub dropout: Dropout,
+    /// Saturation on shiny metal near the mirror direction.
+    pub specular: Specular,
+    /// Mixed pixels ("flying pixels", "wings") at depth discontinuities.
+    pub edges: Edges,
+    /// A per-scan systematic error.
+    pub bias: Bias,
+}
+
+/// Axial standard deviation σ(d) = `sigma` + `per_metre`·d + `per_metre2`·d², metres at range
+/// d metres: constant (Blensor's ToF), proportional to distance (Zivid's "noise proportional to
+/// working distance") or quadratic (triangulation, Khoshelham and Elberink 2012).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Axial {
+    /// Constant part, m.
+    pub sigma: f32,
+    /// Linear part, m per m of range.
+    pub per_metre: f32,
+    /// Quadratic part, m per m².
+    pub per_metre2: f32,
+}
+
+impl Axial {
+    /// σ at range `d`.
+    #[inline]
+    pub fn sigma_at(&self, d: f32) -> f32 {
+        self.sigma + d * (self.per_metre + d * self.per_metre2)
+    }
+}
+
+/// The axial σ is multiplied by 1 + `gain`·θ/(π/2 - θ) at incidence angle θ (the form of
+/// Nguyen, Izadi and Lovell 2012), capped at `max_factor`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Incidence {
+    /// Strength of the grazing-angle growth (0 = off).
+    pub gain: f32,
+    /// Largest multiplication of σ.
+    pub max_factor: f32,
+}
+
+impl Default for Incidence {
+    fn default() -> Incidence {
+        Incidence {
+            gain: 0.0,
+            max_factor: 10.0,
+        }
+    }
+}
+
+impl Incidence {
+    /// Factor on σ at incidence angle `theta` radians.
+    #[inline]
+    pub fn factor(&self, theta: f32) -> f32 {
+        if self.gain == 0.0 {
+            return 1.0;
+        }
+        let grazing = theta / (std::f32::consts::FRAC_PI_2 - theta).max(1e-6);
+        (1.0 + self.gain * grazing).min(self.max_factor)
+    }
+}
+
+/// Dropout: a pixel is lost at random with probability `rate`, and when its signal is low: the
+/// signal s = reflectivity · cos(projector incidence) · (reference range / range)² loses the
+/// pixel with probability 1 / (1 + exp((s - `signal_threshold`) / `softness`)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Dropout {
+    /// Probability of losing any pixel.
+    pub rate: f32,
+    /// Signal below which most pixels are lost (0 = off).
+    pub signal_threshold: f32,
+    /// Width of the transition, in signal units.
+    pub softness: f32,
+}
+
+impl Default for Dropout {
+    fn default() -> Dropout {
+        Dropout {
+            rate: 0.0,
+            signal_threshold: 0.0,
+            softness: 0.02,
+        }
+    }
+}
+
+impl Dropout {
+    /// Probability of losing a pixel of signal `s`.
+    #[inline]
+    pub fn probability(&self, s: f32) -> f32 {
+        let low = if self.signal_threshold > 0.0 {
+            1.0 / (1.0 + ((s - self.signal_threshold) / self.softness.max(1e-6)).exp())
+        } else {
+            0.0
+        };
+        1.0 - (1.0 - self.rate) * (1.0 - low)
+    }
+}
+
+/// Saturation of specular surfaces: where the half vector of the projector and camera
+/// directions lies within the material's lobe of the normal, the pixel is lost with probability
+/// `probability` × the material's `specular`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Specular {
+    /// Loss probability for a fully specular material in its highlight (0 = off).
+    pub probability: f32,
+}
+
+/// Mixed pixels: a pixel whose 4-neighbour lies more than `jump` metres further or nearer
+/// becomes, with probability `probability`, a point on its own ray between the two depths.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Edges {
+    /// Probability at each edge pixel (0 = off).
+    pub probability: f32,
+    /// Depth difference that makes an edge, metres.
+    pub jump: f32,
+}
+
+impl Default for Edges {
+    fn default() -> Edges {
+        Edges {
+            probability: 0.0,
+            jump: 0.01,
+        }
+    }
+}
+
+/// A per-scan systematic error: range × (1 + N(0, `scale_sigma`)) + N(0, `offset_sigma`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Bias {
+    /// σ of the constant range offset, m.
+    pub offset_sigma: f32,
+    /// σ of the relative scale error.
+    pub scale_sigma: f32,
+}

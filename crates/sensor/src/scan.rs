@@ -1,0 +1,303 @@
+//! Scanning: one organized H×W grid of returns per scan, in the camera frame.
+
+use glam::{Affine3A, Vec3};
+use rayon::prelude::*;
+
+use crate::noise::{PixelRng, stream};
+use crate::scene::{Scene, SurfaceHit};
+use crate::sensor::{Model, SensorSpec};
+
+/// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pixel {
+    /// The measured point, noise included; NaN where the sensor returns nothing.
+    pub point: Vec3,
+    /// The exact surface point on the pixel's centre ray; NaN where that ray hits nothing.
+    pub clean: Vec3,
+    /// Unit normal of the surface the point (or, without a point, the clean point) lies on.
+    pub normal: Vec3,
+    /// Semantic class of that surface (0 where nothing was hit).
+    pub class: u16,
+    /// Instance id of that surface (0 where nothing was hit).
+    pub instance: u32,
+    /// Signal strength: reflectivity × cos(incidence of the light) × (reference / range)².
+    pub intensity: f32,
+    /// Angle between the surface normal and the direction to the camera, radians.
+    pub incidence: f32,
+}
+
+impl Pixel {
+    /// A pixel that saw nothing.
+    pub const EMPTY: Pixel = Pixel {
+        point: Vec3::NAN,
+        clean: Vec3::NAN,
+        normal: Vec3::NAN,
+        class: 0,
+        instance: 0,
+        intensity: 0.0,
+        incidence: f32::NAN,
+    };
+
+    /// Whether the sensor returned a point.
+    pub fn is_valid(&self) -> bool {
+        !self.point.x.is_nan()
+    }
+}
+
+/// An organized scan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scan {
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// Row-major pixels.
+    pub pixels: Vec<Pixel>,
+    /// Camera-to-world pose of the scan.
+    pub pose: Affine3A,
+}
+
+impl Scan {
+    /// Number of pixels with a point.
+    pub fn valid_count(&self) -> usize {
+        self.pixels.iter().filter(|p| p.is_valid()).count()
+    }
+}
+
+/// Scans `scene` with `sensor` from the camera-to-world `pose`. Every random draw is keyed by
+/// (seed, pixel), so the result is the same for any number of threads.
+pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> Scan {
+    let k = &sensor.intrinsics;
+    let width = k.width as usize;
+    let bias = {
+        let rng = PixelRng::new(seed, u64::MAX);
+        let b = sensor.noise.bias;
+        (
+            1.0 + b.scale_sigma * rng.normal(stream::BIAS),
+            b.offset_sigma * rng.normal(stream::BIAS + 2),
+        )
+    };
+    let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
+    pixels
+        .par_chunks_mut(width)
+        .enumerate()
+        .for_each(|(row, out)| {
+            for (col, px) in out.iter_mut().enumerate() {
+                *px = sample(scene, sensor, pose, seed, bias, col, row);
+            }
+        });
+    let mut scan = Scan {
+        width: k.width,
+        height: k.height,
+        pixels,
+        pose: *pose,
+    };
+    if let Model::Kinect {
+        window,
+        window_fraction,
+        inlier_distance,
+        ..
+    } = sensor.model
+        && window > 0
+    {
+        window_filter(&mut scan, window as usize, window_fraction, inlier_distance);
+    }
+    if sensor.noise.edges.probability > 0.0 {
+        mixed_pixels(&mut scan, sensor, seed);
+    }
+    scan
+}
+
+/// Measures one pixel.
+fn sample(
+    scene: &Scene,
+    sensor: &SensorSpec,
+    pose: &Affine3A,
+    seed: u64,
+    bias: (f32, f32),
+    col: usize,
+    row: usize,
+) -> Pixel {
+    let k = &sensor.intrinsics;
+    let noise = &sensor.noise;
+    let rng = PixelRng::new(seed, (row * k.width as usize + col) as u64);
+    let origin = Vec3::from(pose.translation);
+    let to_world = |d: Vec3| pose.transform_vector3(d);
+    let to_camera = |d: Vec3| pose.matrix3.transpose() * glam::Vec3A::from(d);
+
+    let centre = k.ray(col as f64, row as f64);
+    let mut px = Pixel::EMPTY;
+    let clean = scene.cast(origin, to_world(centre), sensor.max_range);
+    let label = |px: &mut Pixel, h: &SurfaceHit, dir: Vec3| {
+        px.normal = Vec3::from(to_camera(h.normal));
+        px.class = h.class;
+        px.instance = h.instance;
+        px.incidence = px.normal.dot(-dir).clamp(-1.0, 1.0).acos();
+    };
+    if let Some(h) = &clean {
+        px.clean = centre * h.t;
+        label(&mut px, h, centre);
+    }
+
+    // where this pixel actually samples: its centre, or a laterally jittered position
+    let (dir, hit) = if noise.lateral_px > 0.0 {
+        let du = noise.lateral_px * rng.normal(stream::LATERAL);
+        let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
+        let d = k.ray(col as f64 + du as f64, row as f64 + dv as f64);
+        (d, scene.cast(origin, to_world(d), sensor.max_range))
+    } else {
+        (centre, clean)
+    };
+    let Some(hit) = hit else { return px };
+    if hit.t < sensor.min_range {
+        return px;
+    }
+    let point = dir * hit.t;
+    let mut measured = Pixel {
+        clean: px.clean,
+        ..Pixel::EMPTY
+    };
+    label(&mut measured, &hit, dir);
+
+    // illumination: the projector, or the camera itself
+    let (light_dir, light_range) = match sensor.projector() {
+        Some(projector) => {
+            if !projector.lights(point) {
+                return px;
+            }
+            let to_light = projector.centre() - point;
+            let range = to_light.length();
+            let l = to_light / range;
+            if measured.normal.dot(l) <= 0.0 {
+                return px; // self-shadowed: the surface faces away from the projector
+            }
+            let from = origin + to_world(projector.centre());
+            let gap = (range * 1e-4).max(1e-5);
+            if scene.occluded(from, to_world(-l), range - gap) {
+                return px; // projector shadow
+            }
+            (l, range)
+        }
+        None => (-dir, hit.t),
+    };
+    let cos_light = measured.normal.dot(light_dir).max(0.0);
+    let signal =
+        hit.material.reflectivity * cos_light * (sensor.reference_range / light_range).powi(2);
+    measured.intensity = signal;
+
+    if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
+        return px;
+    }
+    if noise.specular.probability > 0.0 && hit.material.specular > 0.0 {
+        let half = (light_dir - dir).normalize();
+        if measured.normal.dot(half).clamp(-1.0, 1.0).acos() < hit.material.lobe
+            && rng.uniform(stream::SPECULAR) < noise.specular.probability * hit.material.specular
+        {
+            return px;
+        }
+    }
+
+    let mut range = hit.t;
+    let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(measured.incidence);
+    if sigma > 0.0 {
+        range += sigma * rng.normal(stream::AXIAL);
+    }
+    if let Model::Kinect {
+        projector,
+        disparity_sigma_px,
+        subpixel,
+        ..
+    } = sensor.model
+    {
+        let fb = k.fx as f32 * projector.baseline;
+        let z = range * dir.z;
+        let disparity = fb / z + disparity_sigma_px * rng.normal(stream::DISPARITY);
+        let disparity = (disparity * subpixel).round() / subpixel;
+        if disparity <= 0.0 {
+            return px;
+        }
+        range = fb / disparity / dir.z;
+    }
+    range = range * bias.0 + bias.1;
+    if noise.quantization > 0.0 {
+        range = (range / noise.quantization).round() * noise.quantization;
+    }
+    if !(sensor.min_range..=sensor.max_range).contains(&range) {
+        return px;
+    }
+    measured.point = dir * range;
+    measured
+}
+
+/// Range of a valid pixel's point.
+fn range_of(p: &Pixel) -> Option<f32> {
+    p.is_valid().then(|| p.point.length())
+}
+
+/// Mixed pixels: an edge pixel may be pulled along its own ray towards its neighbour's depth.
+fn mixed_pixels(scan: &mut Scan, sensor: &SensorSpec, seed: u64) {
+    let (w, h) = (scan.width as usize, scan.height as usize);
+    let ranges: Vec<Option<f32>> = scan.pixels.iter().map(range_of).collect();
+    let edges = sensor.noise.edges;
+    scan.pixels
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(row, out)| {
+            for (col, px) in out.iter_mut().enumerate() {
+                let i = row * w + col;
+                let Some(r) = ranges[i] else { continue };
+                let neighbours = [
+                    (col > 0).then(|| i - 1),
+                    (col + 1 < w).then(|| i + 1),
+                    (row > 0).then(|| i - w),
+                    (row + 1 < h).then(|| i + w),
+                ];
+                let far = neighbours
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|j| ranges[j])
+                    .max_by(|a, b| (a - r).abs().total_cmp(&(b - r).abs()));
+                let Some(other) = far.filter(|o| (o - r).abs() > edges.jump) else {
+                    continue;
+                };
+                let rng = PixelRng::new(seed, i as u64);
+                if rng.uniform(stream::EDGE) < edges.probability {
+                    let blend = rng.uniform(stream::EDGE + 1);
+                    px.point *= (r + blend * (other - r)) / r;
+                }
+            }
+        });
+}
+
+/// Kinect validity window: a pixel stays if enough of its window holds points within the
+/// inlier distance of its depth.
+fn window_filter(scan: &mut Scan, window: usize, fraction: f32, inlier: f32) {
+    let (w, h) = (scan.width as usize, scan.height as usize);
+    let depth: Vec<f32> = scan
+        .pixels
+        .iter()
+        .map(|p| if p.is_valid() { p.point.z } else { f32::NAN })
+        .collect();
+    let half = window / 2;
+    let needed = (fraction * (window * window) as f32).ceil() as usize;
+    scan.pixels
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(row, out)| {
+            for (col, px) in out.iter_mut().enumerate() {
+                let z = depth[row * w + col];
+                if z.is_nan() {
+                    continue;
+                }
+                let agree = (row.saturating_sub(half)..(row + half + 1).min(h))
+                    .flat_map(|r| {
+                        (col.saturating_sub(half)..(col + half + 1).min(w)).map(move |c| r * w + c)
+                    })
+                    .filter(|&j| (depth[j] - z).abs() < inlier)
+                    .count();
+                if agree < needed {
+                    px.point = Vec3::NAN;
+                }
+            }
+        });
+}

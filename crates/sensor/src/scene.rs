@@ -1,0 +1,153 @@
+//! What a sensor scans: labelled triangle meshes with materials, in one BVH.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::bvh::{Bvh, Hit};
+
+/// How a surface returns light, as the noise models read it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Material {
+    /// Diffuse reflectance 0..1 (signal strength; dark surfaces drop out first).
+    pub reflectivity: f32,
+    /// Share of specular, mirror-like reflection 0..1 (polished metal: bolt heads, pole pot).
+    pub specular: f32,
+    /// Width of the specular lobe, radians (small = mirror).
+    pub lobe: f32,
+}
+
+impl Default for Material {
+    fn default() -> Material {
+        Material {
+            reflectivity: 0.6,
+            specular: 0.0,
+            lobe: 0.2,
+        }
+    }
+}
+
+/// A triangle mesh with its labels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Target {
+    /// Vertex positions in world coordinates, metres.
+    pub positions: Vec<Vec3>,
+    /// Vertex indices of each triangle.
+    pub triangles: Vec<[u32; 3]>,
+    /// Semantic class of every triangle, or one class for the whole mesh.
+    pub classes: Classes,
+    /// Instance id.
+    pub instance: u32,
+    /// Surface material.
+    pub material: Material,
+}
+
+/// The semantic class of a target's triangles.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Classes {
+    /// All triangles one class.
+    Uniform(u16),
+    /// One class per triangle.
+    PerTriangle(Vec<u16>),
+}
+
+/// Per-triangle data the sensor needs after a hit.
+#[derive(Clone, Copy, Debug)]
+struct TriInfo {
+    normal: Vec3,
+    class: u16,
+    target: u32,
+}
+
+/// The scanned world: one BVH over every target's triangles.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    bvh: Bvh,
+    tris: Vec<TriInfo>,
+    instances: Vec<u32>,
+    materials: Vec<Material>,
+}
+
+/// A ray's hit with everything the sensor models need.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceHit {
+    /// Distance along the ray.
+    pub t: f32,
+    /// Triangle in the scene (targets' triangles in order).
+    pub triangle: u32,
+    /// Unit geometric normal, facing the ray's origin.
+    pub normal: Vec3,
+    /// Semantic class.
+    pub class: u16,
+    /// Instance id.
+    pub instance: u32,
+    /// Surface material.
+    pub material: Material,
+}
+
+impl Scene {
+    /// Builds the scene. Triangles with repeated vertices or zero area cannot be hit and are
+    /// kept only for numbering.
+    pub fn new(targets: &[Target]) -> Scene {
+        let count: usize = targets.iter().map(|t| t.triangles.len()).sum();
+        let mut corners = Vec::with_capacity(count);
+        let mut tris = Vec::with_capacity(count);
+        for (k, t) in targets.iter().enumerate() {
+            for (i, tri) in t.triangles.iter().enumerate() {
+                let c = tri.map(|v| t.positions[v as usize]);
+                let class = match &t.classes {
+                    Classes::Uniform(c) => *c,
+                    Classes::PerTriangle(v) => v[i],
+                };
+                tris.push(TriInfo {
+                    normal: (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero(),
+                    class,
+                    target: k as u32,
+                });
+                corners.push(c);
+            }
+        }
+        Scene {
+            bvh: Bvh::build(&corners),
+            tris,
+            instances: targets.iter().map(|t| t.instance).collect(),
+            materials: targets.iter().map(|t| t.material).collect(),
+        }
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// The closest surface along a unit ray within `t_max`.
+    #[inline]
+    pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<SurfaceHit> {
+        self.bvh
+            .cast(origin, dir, t_max)
+            .map(|h| self.describe(h, dir))
+    }
+
+    /// Whether any surface lies on the unit ray within `t_max`.
+    #[inline]
+    pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+        self.bvh.occluded(origin, dir, t_max)
+    }
+
+    fn describe(&self, h: Hit, dir: Vec3) -> SurfaceHit {
+        let info = self.tris[h.triangle as usize];
+        let normal = if info.normal.dot(dir) > 0.0 {
+            -info.normal
+        } else {
+            info.normal
+        };
+        SurfaceHit {
+            t: h.t,
+            triangle: h.triangle,
+            normal,
+            class: info.class,
+            instance: self.instances[info.target as usize],
+            material: self.materials[info.target as usize],
+        }
+    }
+}

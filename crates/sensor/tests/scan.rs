@@ -1,0 +1,479 @@
+//! Scans of analytic scenes: exact geometry, projector shadows, incidence, noise statistics and
+//! thread-count independence.
+
+use ::sensor::noise::{self, Axial, Dropout, Incidence};
+use ::sensor::*;
+use glam::{Affine3A, Vec3};
+
+/// A rectangle in the plane through `c` spanned by `a` and `b` (half extents), as a target.
+fn quad(c: Vec3, a: Vec3, b: Vec3, class: u16, instance: u32) -> Target {
+    Target {
+        positions: vec![c - a - b, c + a - b, c + a + b, c - a + b],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        classes: Classes::Uniform(class),
+        instance,
+        material: Material::default(),
+    }
+}
+
+fn sphere(c: Vec3, r: f32, n: usize) -> Target {
+    let mut positions = Vec::new();
+    for i in 0..=n {
+        for j in 0..n {
+            let (th, ph) = (
+                std::f32::consts::PI * i as f32 / n as f32,
+                std::f32::consts::TAU * j as f32 / n as f32,
+            );
+            positions.push(c + r * Vec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()));
+        }
+    }
+    let id = |i: usize, j: usize| (i * n + j % n) as u32;
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    Target {
+        positions,
+        triangles,
+        classes: Classes::Uniform(3),
+        instance: 7,
+        material: Material::default(),
+    }
+}
+
+fn small_camera(w: u32, h: u32, f: f64) -> Intrinsics {
+    Intrinsics {
+        width: w,
+        height: h,
+        fx: f,
+        fy: f,
+        cx: (w as f64 - 1.0) / 2.0,
+        cy: (h as f64 - 1.0) / 2.0,
+        distortion: Distortion::default(),
+    }
+}
+
+fn ideal(intrinsics: Intrinsics) -> SensorSpec {
+    SensorSpec {
+        intrinsics,
+        ..SensorSpec::preset("ideal").unwrap()
+    }
+}
+
+fn facing_plane(z: f32) -> Target {
+    quad(Vec3::new(0.0, 0.0, z), Vec3::X * 5.0, Vec3::Y * 5.0, 1, 1)
+}
+
+#[test]
+fn plane_at_known_distance_is_exact_everywhere_even_with_distortion() {
+    let mut k = small_camera(320, 240, 300.0);
+    k.distortion = Distortion {
+        k1: -0.12,
+        k2: 0.05,
+        k3: 0.0,
+        p1: 0.001,
+        p2: -0.0005,
+    };
+    k.validate().unwrap();
+    let scene = Scene::new(&[facing_plane(1.25)]);
+    let s = scan(&scene, &ideal(k), &Affine3A::IDENTITY, 1);
+    assert_eq!(s.valid_count(), 320 * 240);
+    for (i, p) in s.pixels.iter().enumerate() {
+        assert!((p.point.z - 1.25).abs() < 2e-6, "{p:?}");
+        assert_eq!(p.point, p.clean);
+        assert_eq!((p.class, p.instance), (1, 1));
+        assert!((p.normal - Vec3::NEG_Z).length() < 1e-6);
+        let (u, v) = k.project(p.point).unwrap();
+        assert!(
+            (u - (i % 320) as f64).abs() < 1e-3 && (v - (i / 320) as f64).abs() < 1e-3,
+            "pixel {i} projects to {u},{v}"
+        );
+    }
+}
+
+#[test]
+fn camera_pose_moves_the_scene_into_the_camera_frame() {
+    // a camera 2 m above a floor at z = 0, looking straight down
+    let pose = look_at(
+        Vec3::new(0.3, -0.2, 2.0),
+        Vec3::new(0.3, -0.2, 0.0),
+        Vec3::Z,
+    )
+    .unwrap();
+    let floor = quad(Vec3::ZERO, Vec3::X * 5.0, Vec3::Y * 5.0, 2, 4);
+    let s = scan(
+        &Scene::new(&[floor]),
+        &ideal(small_camera(64, 48, 60.0)),
+        &pose,
+        0,
+    );
+    assert_eq!(s.valid_count(), 64 * 48);
+    assert!(s.pixels.iter().all(|p| (p.point.z - 2.0).abs() < 1e-5));
+    // image x (right) is world +x for this pose; a pixel right of centre lies at larger world x
+    let right = pose.transform_point3(s.pixels[24 * 64 + 60].point);
+    assert!(right.x > 0.3 && right.z.abs() < 1e-5);
+}
+
+#[test]
+fn sphere_points_lie_on_the_sphere() {
+    let c = Vec3::new(0.05, -0.02, 2.0);
+    let scene = Scene::new(&[sphere(c, 0.5, 400)]);
+    let k = small_camera(200, 200, 200.0);
+    let s = scan(&scene, &ideal(k), &Affine3A::IDENTITY, 0);
+    let valid: Vec<&Pixel> = s.pixels.iter().filter(|p| p.is_valid()).collect();
+    // the visible disc: radius f·r/sqrt(d² - r²) pixels
+    let disc = std::f32::consts::PI * (200.0 * 0.5 / (4.0f32 - 0.25).sqrt()).powi(2);
+    assert!(
+        (valid.len() as f32 / disc - 1.0).abs() < 0.03,
+        "{} vs {disc}",
+        valid.len()
+    );
+    for p in valid {
+        // tessellated: within the chord error of a 400-segment sphere
+        let d = (p.point - c).length();
+        assert!(d <= 0.5 + 1e-5 && d > 0.5 * (1.0 - 2e-4), "{d}");
+        assert_eq!((p.class, p.instance), (3, 7));
+    }
+}
+
+#[test]
+fn projector_shadow_band_width_follows_from_the_baseline() {
+    // occluder at z1 = 1 covering x > 0; background at z2 = 2; projector at x = b:
+    // the background in x in [b - b·z2/z1, 0] is lit by no ray: a band b(z2 - z1)/z1 wide
+    let (b, z1, z2) = (0.2f32, 1.0f32, 2.0f32);
+    let occluder = quad(Vec3::new(2.0, 0.0, z1), Vec3::X * 2.0, Vec3::Y * 3.0, 2, 2);
+    let background = quad(Vec3::new(0.0, 0.0, z2), Vec3::X * 6.0, Vec3::Y * 6.0, 1, 1);
+    let scene = Scene::new(&[occluder, background]);
+    let k = small_camera(801, 101, 400.0);
+    let projector = Projector {
+        baseline: b,
+        convergence: 1.5,
+        hfov_deg: 120.0,
+        vfov_deg: 120.0,
+    };
+    let sl = SensorSpec {
+        intrinsics: k,
+        model: Model::StructuredLight { projector },
+        ..ideal(k)
+    };
+    let s = scan(&scene, &sl, &Affine3A::IDENTITY, 0);
+    let row = &s.pixels[50 * 801..51 * 801];
+    let shadowed: Vec<usize> = (0..801)
+        .filter(|&c| row[c].instance == 1 && !row[c].is_valid())
+        .collect();
+    let width = shadowed.len() as f32 * z2 / 400.0;
+    let expect = b * (z2 - z1) / z1;
+    assert!(
+        (width - expect).abs() < 2.0 * z2 / 400.0,
+        "band {width} m, expected {expect} m"
+    );
+    // the band sits just left of the occluder's edge
+    let edge = (0..801).find(|&c| row[c].instance == 2).unwrap();
+    assert_eq!(*shadowed.last().unwrap() + 1, edge);
+    // the ideal sensor sees everything there
+    let all = scan(&scene, &ideal(k), &Affine3A::IDENTITY, 0);
+    assert_eq!(all.valid_count(), 801 * 101);
+}
+
+#[test]
+fn tilted_plane_gives_its_incidence_and_normal() {
+    let theta = 30f32.to_radians();
+    let n = Vec3::new(theta.sin(), 0.0, -theta.cos());
+    let a = Vec3::Y.cross(n).normalize() * 3.0;
+    let plane = quad(Vec3::new(0.0, 0.0, 1.0), a, Vec3::Y * 3.0, 1, 1);
+    let s = scan(
+        &Scene::new(&[plane]),
+        &ideal(small_camera(101, 101, 100.0)),
+        &Affine3A::IDENTITY,
+        0,
+    );
+    let centre = s.pixels[50 * 101 + 50];
+    assert!(
+        (centre.incidence - theta).abs() < 1e-4,
+        "{}",
+        centre.incidence.to_degrees()
+    );
+    assert!(
+        s.pixels
+            .iter()
+            .filter(|p| p.is_valid())
+            .all(|p| (p.normal - n).length() < 1e-5)
+    );
+    // incidence varies with the ray: cos = n·(-dir)
+    for p in s.pixels.iter().filter(|p| p.is_valid()) {
+        let cos = n.dot(-p.point.normalize());
+        assert!((p.incidence.cos() - cos).abs() < 1e-4);
+    }
+}
+
+/// A 500×400 camera facing a plane at `z` (200k pixels) with the given noise.
+fn noisy_plane(z: f32, noise: Noise, seed: u64) -> Scan {
+    let k = small_camera(500, 400, 800.0);
+    let tof = SensorSpec {
+        intrinsics: k,
+        model: Model::TimeOfFlight,
+        noise,
+        ..ideal(k)
+    };
+    scan(
+        &Scene::new(&[facing_plane(z)]),
+        &tof,
+        &Affine3A::IDENTITY,
+        seed,
+    )
+}
+
+fn range_errors(s: &Scan) -> Vec<f64> {
+    s.pixels
+        .iter()
+        .filter(|p| p.is_valid())
+        .map(|p| (p.point.length() - p.clean.length()) as f64)
+        .collect()
+}
+
+fn mean_std(v: &[f64]) -> (f64, f64) {
+    let m = v.iter().sum::<f64>() / v.len() as f64;
+    (
+        m,
+        (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt(),
+    )
+}
+
+#[test]
+fn axial_noise_has_the_configured_sigma() {
+    let noise = Noise {
+        axial: Axial {
+            sigma: 1e-3,
+            ..Axial::default()
+        },
+        ..Noise::default()
+    };
+    let (m, sd) = mean_std(&range_errors(&noisy_plane(1.0, noise, 3)));
+    assert!((sd / 1e-3 - 1.0).abs() < 0.05, "σ {sd}");
+    assert!(m.abs() < 3.0 * 1e-3 / (200_000f64).sqrt() * 2.0, "mean {m}");
+    // along the ray: the noisy point stays on its pixel's ray
+    let s = noisy_plane(1.0, noise, 3);
+    assert!(
+        s.pixels
+            .iter()
+            .all(|p| p.point.normalize().dot(p.clean.normalize()) > 1.0 - 1e-6)
+    );
+}
+
+#[test]
+fn noise_proportional_to_distance_and_growing_at_grazing_angles() {
+    let noise = Noise {
+        axial: Axial {
+            per_metre: 5e-4,
+            ..Axial::default()
+        },
+        ..Noise::default()
+    };
+    for z in [1.0f32, 2.0] {
+        let errors = range_errors(&noisy_plane(z, noise, 5));
+        // ranges vary across the image; normalise each error by its own expected σ
+        let s = noisy_plane(z, noise, 5);
+        let ranges: Vec<f64> = s
+            .pixels
+            .iter()
+            .filter(|p| p.is_valid())
+            .map(|p| p.clean.length() as f64)
+            .collect();
+        let z_scores: Vec<f64> = errors
+            .iter()
+            .zip(&ranges)
+            .map(|(e, r)| e / (5e-4 * r))
+            .collect();
+        let (_, sd) = mean_std(&z_scores);
+        assert!((sd - 1.0).abs() < 0.05, "z = {z}: {sd}");
+    }
+    // the incidence term multiplies σ by 1 + gain·θ/(π/2 - θ)
+    let inc = Incidence {
+        gain: 0.5,
+        max_factor: 10.0,
+    };
+    let theta = 60f32.to_radians();
+    assert!(
+        (inc.factor(theta) - (1.0 + 0.5 * theta / (std::f32::consts::FRAC_PI_2 - theta))).abs()
+            < 1e-6
+    );
+    assert_eq!(Incidence::default().factor(1.0), 1.0);
+}
+
+#[test]
+fn dropout_rate_matches() {
+    let noise = Noise {
+        dropout: Dropout {
+            rate: 0.1,
+            ..Dropout::default()
+        },
+        ..Noise::default()
+    };
+    let s = noisy_plane(1.0, noise, 9);
+    let lost = 1.0 - s.valid_count() as f64 / 200_000.0;
+    assert!((lost / 0.1 - 1.0).abs() < 0.05, "{lost}");
+    // lost pixels keep their ground truth
+    assert!(
+        s.pixels
+            .iter()
+            .all(|p| !p.clean.x.is_nan() && p.instance == 1)
+    );
+    // low signal: a dark plane far away drops out, a bright near one does not
+    let low = Noise {
+        dropout: Dropout {
+            rate: 0.0,
+            signal_threshold: 0.3,
+            softness: 0.01,
+        },
+        ..Noise::default()
+    };
+    assert!(noisy_plane(1.0, low, 1).valid_count() > 199_000); // signal 0.6 at the reference range
+    assert!(noisy_plane(3.0, low, 1).valid_count() < 1_000); // 0.6 / 9
+}
+
+#[test]
+fn quantisation_and_bias() {
+    let q = Noise {
+        quantization: 1e-3,
+        ..Noise::default()
+    };
+    let s = noisy_plane(1.0, q, 0);
+    for p in s.pixels.iter().filter(|p| p.is_valid()).take(5000) {
+        let r = p.point.length() / 1e-3;
+        assert!((r - r.round()).abs() < 1e-2, "{r}");
+    }
+    let biased = Noise {
+        bias: noise::Bias {
+            offset_sigma: 1e-3,
+            scale_sigma: 0.0,
+        },
+        ..Noise::default()
+    };
+    let offsets: Vec<f64> = (0..200)
+        .map(|seed| range_errors(&noisy_plane(1.0, biased, seed))[0])
+        .collect();
+    let (_, sd) = mean_std(&offsets);
+    assert!((sd / 1e-3 - 1.0).abs() < 0.2, "per-scan offset σ {sd}");
+    // one offset for the whole scan
+    let e = range_errors(&noisy_plane(1.0, biased, 4));
+    assert!(e.iter().all(|x| (x - e[0]).abs() < 1e-6));
+}
+
+#[test]
+fn same_bytes_for_any_thread_count() {
+    let noise = SensorSpec::preset("zivid-2plus-m130").unwrap().noise;
+    let k = small_camera(300, 200, 300.0);
+    let spec = SensorSpec {
+        intrinsics: k,
+        model: Model::StructuredLight {
+            projector: Projector {
+                baseline: 0.2,
+                convergence: 1.3,
+                hfov_deg: 90.0,
+                vfov_deg: 90.0,
+            },
+        },
+        noise,
+        ..ideal(k)
+    };
+    let scene = Scene::new(&[
+        sphere(Vec3::new(0.0, 0.0, 1.2), 0.3, 200),
+        facing_plane(1.6),
+    ]);
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| scan(&scene, &spec, &Affine3A::IDENTITY, 42))
+    };
+    let bits = |s: &Scan| -> Vec<u32> {
+        s.pixels
+            .iter()
+            .flat_map(|p| {
+                [p.point.to_array(), p.clean.to_array(), p.normal.to_array()]
+                    .concat()
+                    .into_iter()
+                    .map(f32::to_bits)
+                    .chain([
+                        p.class as u32,
+                        p.instance,
+                        p.intensity.to_bits(),
+                        p.incidence.to_bits(),
+                    ])
+            })
+            .collect()
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(bits(&one), bits(&two));
+    assert_ne!(bits(&one), bits(&pool_free(&scene, &spec, 43)));
+}
+
+fn pool_free(scene: &Scene, spec: &SensorSpec, seed: u64) -> Scan {
+    scan(scene, spec, &Affine3A::IDENTITY, seed)
+}
+
+#[test]
+fn presets_are_valid_and_unknown_ones_are_refused() {
+    for name in PRESETS {
+        let s = SensorSpec::preset(name).unwrap();
+        s.validate().unwrap();
+        assert_eq!(s.name, name);
+    }
+    let e = SensorSpec::preset("zivid-3").unwrap_err().to_string();
+    assert!(
+        e.contains("zivid-3") && e.contains("zivid-2plus-m130"),
+        "{e}"
+    );
+    let tof = SensorSpec::preset("blensor-tof").unwrap().intrinsics;
+    let (h, v) = tof.fov_deg();
+    assert!((h - 43.6).abs() < 1e-6 && (v - 34.6).abs() < 1e-6);
+}
+
+#[test]
+fn impossible_intrinsics_are_refused() {
+    let good = small_camera(100, 100, 100.0);
+    for (bad, key) in [
+        (Intrinsics { fx: 0.0, ..good }, "fx"),
+        (
+            Intrinsics {
+                fy: f64::NAN,
+                ..good
+            },
+            "fy",
+        ),
+        (Intrinsics { width: 0, ..good }, "width"),
+        (Intrinsics { cx: 500.0, ..good }, "cx"),
+        (
+            Intrinsics {
+                distortion: Distortion {
+                    k1: -50.0,
+                    ..Distortion::default()
+                },
+                ..good
+            },
+            "distortion",
+        ),
+    ] {
+        let e = bad.validate().unwrap_err().to_string();
+        assert!(e.contains(key), "{e}");
+    }
+}
+
+#[test]
+fn binning_keeps_the_field_of_view() {
+    let k = SensorSpec::preset("zivid-2plus-m130").unwrap().intrinsics;
+    for f in [2, 4] {
+        let b = k.binned(f);
+        assert_eq!((b.width, b.height), (k.width / f, k.height / f));
+        let (h0, v0) = k.fov_deg();
+        let (h1, v1) = b.fov_deg();
+        assert!((h0 - h1).abs() < 1e-9 && (v0 - v1).abs() < 1e-9);
+        // the same direction through the binned pixel centre as through the block's centre
+        let d0 = k.ray((f as f64 - 1.0) / 2.0, (f as f64 - 1.0) / 2.0);
+        assert!((b.ray(0.0, 0.0) - d0).length() < 1e-6);
+    }
+}
