@@ -1,8 +1,10 @@
 //! motorfactory: synthetic, labelled 3D training data of small electric gear motors.
 
 mod error;
+mod meshio;
 mod motors;
 mod progress;
+mod scan;
 
 use clap::{Parser, Subcommand};
 
@@ -22,6 +24,8 @@ enum Command {
     Motors(motors::MotorsCmd),
     /// List every motor parameter with its range, default and meaning.
     Params,
+    /// Scan meshes with a simulated depth sensor.
+    Scan(scan::ScanCmd),
 }
 
 fn main() {
@@ -30,6 +34,7 @@ fn main() {
         Command::Motor(cmd) => cmd.run(),
         Command::Motors(cmd) => cmd.run(),
         Command::Params => motors::print_params(),
+        Command::Scan(cmd) => cmd.run(),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

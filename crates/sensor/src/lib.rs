@@ -5,7 +5,9 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod cloud;
 mod error;
+pub mod formats;
 pub mod noise;
 pub mod scan;
 pub mod scene;
@@ -13,6 +15,7 @@ pub mod sensor;
 
 pub use bvh::{Bvh, Hit};
 pub use camera::{Distortion, Intrinsics, look_at};
+pub use cloud::{Frame, PointCloud, Units};
 pub use error::Error;
 pub use noise::Noise;
 pub use scan::{Pixel, Scan, scan};

@@ -481,29 +481,72 @@ fn binning_keeps_the_field_of_view() {
 #[test]
 fn kinect_depth_comes_in_disparity_steps_and_the_window_removes_strays() {
     let mut spec = SensorSpec::preset("kinect-v1").unwrap();
-    let Model::Kinect { projector, ref mut disparity_sigma_px, .. } = spec.model else { unreachable!() };
+    let Model::Kinect {
+        projector,
+        ref mut disparity_sigma_px,
+        ..
+    } = spec.model
+    else {
+        unreachable!()
+    };
     *disparity_sigma_px = 0.0;
-    let s = scan(&Scene::new(&[facing_plane(1.5)]), &spec, &Affine3A::IDENTITY, 0);
+    let s = scan(
+        &Scene::new(&[facing_plane(1.5)]),
+        &spec,
+        &Affine3A::IDENTITY,
+        0,
+    );
     assert!(s.valid_count() > 200_000);
     let fb = spec.intrinsics.fx as f32 * projector.baseline;
     for p in s.pixels.iter().filter(|p| p.is_valid()).step_by(97) {
         let steps = fb / p.point.z * 8.0;
-        assert!((steps - steps.round()).abs() < 2e-3, "disparity {} px is not a multiple of 1/8", steps / 8.0);
-        assert!((p.point.z - 1.5).abs() < 1.5 * 1.5 / fb / 8.0, "{}", p.point.z);
+        assert!(
+            (steps - steps.round()).abs() < 2e-3,
+            "disparity {} px is not a multiple of 1/8",
+            steps / 8.0
+        );
+        assert!(
+            (p.point.z - 1.5).abs() < 1.5 * 1.5 / fb / 8.0,
+            "{}",
+            p.point.z
+        );
     }
     // a small object nearer than the inlier distance of nothing around it is filtered out
-    let speck = quad(Vec3::new(0.0, 0.0, 1.0), Vec3::X * 0.004, Vec3::Y * 0.004, 5, 9);
-    let s = scan(&Scene::new(&[speck, facing_plane(1.5)]), &spec, &Affine3A::IDENTITY, 0);
+    let speck = quad(
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::X * 0.004,
+        Vec3::Y * 0.004,
+        5,
+        9,
+    );
+    let s = scan(
+        &Scene::new(&[speck, facing_plane(1.5)]),
+        &spec,
+        &Affine3A::IDENTITY,
+        0,
+    );
     assert!(!s.pixels.iter().any(|p| p.is_valid() && p.instance == 9));
 }
 
 #[test]
 fn shiny_surfaces_saturate_near_the_mirror_direction() {
     let mut plane = facing_plane(1.0);
-    plane.material = Material { reflectivity: 0.6, specular: 1.0, lobe: 5f32.to_radians() };
-    let noise = Noise { specular: noise::Specular { probability: 0.5 }, ..Noise::default() };
+    plane.material = Material {
+        reflectivity: 0.6,
+        specular: 1.0,
+        lobe: 5f32.to_radians(),
+    };
+    let noise = Noise {
+        specular: noise::Specular { probability: 0.5 },
+        ..Noise::default()
+    };
     let k = small_camera(500, 400, 800.0);
-    let tof = SensorSpec { intrinsics: k, model: Model::TimeOfFlight, noise, ..ideal(k) };
+    let tof = SensorSpec {
+        intrinsics: k,
+        model: Model::TimeOfFlight,
+        noise,
+        ..ideal(k)
+    };
     let s = scan(&Scene::new(&[plane]), &tof, &Affine3A::IDENTITY, 2);
     // with the light at the camera, the highlight is where the ray meets the plane within 5°
     let (mut inside, mut lost_inside, mut lost_outside) = (0, 0, 0);
@@ -525,9 +568,20 @@ fn shiny_surfaces_saturate_near_the_mirror_direction() {
 fn mixed_pixels_fly_between_the_two_depths_at_edges_only() {
     let near = quad(Vec3::new(0.5, 0.0, 1.0), Vec3::X * 0.5, Vec3::Y * 2.0, 2, 2);
     let scene = Scene::new(&[near, facing_plane(1.5)]);
-    let noise = Noise { edges: noise::Edges { probability: 1.0, jump: 0.05 }, ..Noise::default() };
+    let noise = Noise {
+        edges: noise::Edges {
+            probability: 1.0,
+            jump: 0.05,
+        },
+        ..Noise::default()
+    };
     let k = small_camera(200, 50, 200.0);
-    let spec = SensorSpec { intrinsics: k, model: Model::TimeOfFlight, noise, ..ideal(k) };
+    let spec = SensorSpec {
+        intrinsics: k,
+        model: Model::TimeOfFlight,
+        noise,
+        ..ideal(k)
+    };
     let s = scan(&scene, &spec, &Affine3A::IDENTITY, 0);
     let mut flying = 0;
     for (i, p) in s.pixels.iter().enumerate() {
@@ -535,7 +589,11 @@ fn mixed_pixels_fly_between_the_two_depths_at_edges_only() {
         if (r - r0).abs() > 1e-5 {
             flying += 1;
             // between the two surfaces, on its own ray, next to the edge column
-            assert!(p.point.z > 1.0 - 1e-4 && p.point.z < 1.5 + 1e-4, "{:?}", p.point);
+            assert!(
+                p.point.z > 1.0 - 1e-4 && p.point.z < 1.5 + 1e-4,
+                "{:?}",
+                p.point
+            );
             assert!(p.point.normalize().dot(p.clean.normalize()) > 1.0 - 1e-6);
             let col = i % 200;
             assert!((98..=101).contains(&col), "flying pixel at column {col}");

@@ -1,0 +1,108 @@
+//! Unorganized, labelled point clouds as columns, cut from scans.
+
+use glam::{Affine3A, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::scan::Scan;
+
+/// The frame a cloud is expressed in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Frame {
+    /// OpenCV / Zivid camera frame: x right, y down, z forward.
+    #[default]
+    Camera,
+    /// The scene's world frame.
+    World,
+    /// Blender / Blensor camera frame: x right, y up, z backward (the original datasets' frame).
+    Blensor,
+}
+
+/// Length unit of written coordinates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Units {
+    /// Metres.
+    #[default]
+    Metres,
+    /// Millimetres (Zivid's and the AgiProbot real data's unit).
+    Millimetres,
+}
+
+impl Units {
+    /// Metres to this unit.
+    pub fn scale(self) -> f32 {
+        match self {
+            Units::Metres => 1.0,
+            Units::Millimetres => 1000.0,
+        }
+    }
+}
+
+/// Points with normals and labels, one entry per point in every column.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointCloud {
+    /// Positions.
+    pub xyz: Vec<Vec3>,
+    /// Unit normals.
+    pub normal: Vec<Vec3>,
+    /// Signal strength.
+    pub intensity: Vec<f32>,
+    /// Semantic class.
+    pub class: Vec<u16>,
+    /// Instance id.
+    pub instance: Vec<u32>,
+}
+
+impl PointCloud {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.xyz.len()
+    }
+
+    /// True when there are no points.
+    pub fn is_empty(&self) -> bool {
+        self.xyz.is_empty()
+    }
+
+    /// The points for which `keep` holds (on position and class), e.g. a crop.
+    pub fn filtered(&self, keep: impl Fn(Vec3, u16) -> bool) -> PointCloud {
+        let mut out = PointCloud::default();
+        for i in 0..self.len() {
+            if keep(self.xyz[i], self.class[i]) {
+                out.xyz.push(self.xyz[i]);
+                out.normal.push(self.normal[i]);
+                out.intensity.push(self.intensity[i]);
+                out.class.push(self.class[i]);
+                out.instance.push(self.instance[i]);
+            }
+        }
+        out
+    }
+}
+
+impl Scan {
+    /// The valid points of the scan (`clean`: the exact points instead of the measured ones), in
+    /// `frame` and `units`, in pixel order.
+    pub fn cloud(&self, clean: bool, frame: Frame, units: Units) -> PointCloud {
+        let to_frame = match frame {
+            Frame::Camera => Affine3A::IDENTITY,
+            Frame::World => self.pose,
+            Frame::Blensor => Affine3A::from_scale(Vec3::new(1.0, -1.0, -1.0)),
+        };
+        let scale = units.scale();
+        let mut out = PointCloud::default();
+        for p in &self.pixels {
+            let point = if clean { p.clean } else { p.point };
+            if point.x.is_nan() {
+                continue;
+            }
+            out.xyz.push(to_frame.transform_point3(point) * scale);
+            out.normal.push(to_frame.transform_vector3(p.normal));
+            out.intensity.push(p.intensity);
+            out.class.push(p.class);
+            out.instance.push(p.instance);
+        }
+        out
+    }
+}

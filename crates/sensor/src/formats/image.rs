@@ -1,0 +1,104 @@
+//! PNG images of a scan.
+
+use std::io::{Result, Write};
+
+use crate::scan::Scan;
+
+/// Depth PNG unit: one 16-bit step is 0.1 mm, so 0..6.5535 m; 0 means no data.
+pub const DEPTH_PNG_METRES_PER_UNIT: f32 = 1e-4;
+
+fn png(
+    w: &mut dyn Write,
+    scan: &Scan,
+    color: png::ColorType,
+    depth: png::BitDepth,
+    data: &[u8],
+) -> Result<()> {
+    let mut e = png::Encoder::new(w, scan.width, scan.height);
+    e.set_color(color);
+    e.set_depth(depth);
+    let mut writer = e.write_header().map_err(std::io::Error::other)?;
+    writer.write_image_data(data).map_err(std::io::Error::other)
+}
+
+fn big_endian_16(values: impl Iterator<Item = u16>) -> Vec<u8> {
+    values.flat_map(u16::to_be_bytes).collect()
+}
+
+/// 16-bit grey depth (camera z) in steps of [`DEPTH_PNG_METRES_PER_UNIT`]; `clean` uses the
+/// exact depth instead of the measured one.
+pub fn write_depth_png(w: &mut dyn Write, scan: &Scan, clean: bool) -> Result<()> {
+    let data = big_endian_16(scan.pixels.iter().map(|p| {
+        let z = if clean { p.clean.z } else { p.point.z };
+        if z.is_nan() {
+            0
+        } else {
+            (z / DEPTH_PNG_METRES_PER_UNIT).round().clamp(1.0, 65535.0) as u16
+        }
+    }));
+    png(
+        w,
+        scan,
+        png::ColorType::Grayscale,
+        png::BitDepth::Sixteen,
+        &data,
+    )
+}
+
+/// 8-bit RGB normals, (n + 1) / 2 · 255 in the camera frame; black where nothing was hit.
+pub fn write_normal_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
+    let data: Vec<u8> = scan
+        .pixels
+        .iter()
+        .flat_map(|p| {
+            if p.normal.x.is_nan() {
+                [0; 3]
+            } else {
+                p.normal
+                    .to_array()
+                    .map(|c| ((c + 1.0) * 127.5).round() as u8)
+            }
+        })
+        .collect();
+    png(w, scan, png::ColorType::Rgb, png::BitDepth::Eight, &data)
+}
+
+/// 16-bit grey labels: the class (or, with `instance`, the instance id) of each pixel's surface.
+pub fn write_label_png(w: &mut dyn Write, scan: &Scan, instance: bool) -> Result<()> {
+    let data = big_endian_16(scan.pixels.iter().map(|p| {
+        if instance {
+            p.instance.min(65535) as u16
+        } else {
+            p.class
+        }
+    }));
+    png(
+        w,
+        scan,
+        png::ColorType::Grayscale,
+        png::BitDepth::Sixteen,
+        &data,
+    )
+}
+
+/// 8-bit grey signal strength, clamped to 0..1; 0 where no point.
+pub fn write_intensity_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
+    let data: Vec<u8> = scan
+        .pixels
+        .iter()
+        .map(|p| {
+            if p.is_valid() {
+                (p.intensity.clamp(0.0, 1.0) * 255.0).round() as u8
+            } else {
+                0
+            }
+        })
+        .collect();
+    png(
+        w,
+        scan,
+        png::ColorType::Grayscale,
+        png::BitDepth::Eight,
+        &data,
+    )
+}

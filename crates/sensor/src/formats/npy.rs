@@ -1,0 +1,115 @@
+//! NumPy `.npy` (format 1.0) and `.npz` (a stored zip of `.npy` files).
+
+use std::io::{Cursor, Result, Write};
+
+use crate::cloud::PointCloud;
+
+/// Writes an NPY header for a C-order array of `dtype` (e.g. `<f4`) and `shape`.
+fn header(w: &mut dyn Write, dtype: &str, shape: &[usize]) -> Result<()> {
+    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+    let tuple = if dims.len() == 1 {
+        format!("({},)", dims[0])
+    } else {
+        format!("({})", dims.join(", "))
+    };
+    let mut dict = format!("{{'descr': '{dtype}', 'fortran_order': False, 'shape': {tuple}, }}");
+    // magic (6) + version (2) + length (2) + dict + newline, padded to a multiple of 64
+    let total = (10 + dict.len() + 1).next_multiple_of(64);
+    dict.push_str(&" ".repeat(total - 10 - dict.len() - 1));
+    dict.push('\n');
+    w.write_all(b"\x93NUMPY\x01\x00")?;
+    w.write_all(&(dict.len() as u16).to_le_bytes())?;
+    w.write_all(dict.as_bytes())
+}
+
+/// Writes an NPY array of little-endian values.
+fn array<T: Copy, const N: usize>(
+    w: &mut dyn Write,
+    dtype: &str,
+    shape: &[usize],
+    values: impl Iterator<Item = T>,
+    bytes: impl Fn(T) -> [u8; N],
+) -> Result<()> {
+    header(w, dtype, shape)?;
+    for v in values {
+        w.write_all(&bytes(v))?;
+    }
+    Ok(())
+}
+
+/// Writes the SynMotor training layout: float32 N×7 `x y z r g b label`, colours 0..1 from
+/// `palette` indexed by class (grey beyond it).
+pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud, palette: &[[u8; 3]]) -> Result<()> {
+    let rows = (0..c.len()).flat_map(|i| {
+        let rgb = palette
+            .get(c.class[i] as usize)
+            .copied()
+            .unwrap_or([128; 3])
+            .map(|x| x as f32 / 255.0);
+        let p = c.xyz[i];
+        [p.x, p.y, p.z, rgb[0], rgb[1], rgb[2], c.class[i] as f32]
+    });
+    array(w, "<f4", &[c.len(), 7], rows, f32::to_le_bytes)
+}
+
+/// Writes an NPZ with arrays `xyz` (N×3 float32), `normal` (N×3 float32), `intensity` (N
+/// float32), `label` (N uint16, the class) and `instance` (N uint32). Entries are stored
+/// uncompressed with a fixed timestamp, so the bytes are reproducible.
+pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
+    let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Stored)
+        .last_modified_time(zip::DateTime::default())
+        .large_file(c.len() * 12 > u32::MAX as usize / 2);
+    let n = c.len();
+    let mut entry = |name: &str, body: &dyn Fn(&mut dyn Write) -> Result<()>| -> Result<()> {
+        zip.start_file(format!("{name}.npy"), options)
+            .map_err(std::io::Error::other)?;
+        body(&mut zip)
+    };
+    entry("xyz", &|w| {
+        array(
+            w,
+            "<f4",
+            &[n, 3],
+            c.xyz.iter().flat_map(|p| p.to_array()),
+            f32::to_le_bytes,
+        )
+    })?;
+    entry("normal", &|w| {
+        array(
+            w,
+            "<f4",
+            &[n, 3],
+            c.normal.iter().flat_map(|p| p.to_array()),
+            f32::to_le_bytes,
+        )
+    })?;
+    entry("intensity", &|w| {
+        array(
+            w,
+            "<f4",
+            &[n],
+            c.intensity.iter().copied(),
+            f32::to_le_bytes,
+        )
+    })?;
+    entry("label", &|w| {
+        array(w, "<u2", &[n], c.class.iter().copied(), u16::to_le_bytes)
+    })?;
+    entry("instance", &|w| {
+        array(w, "<u4", &[n], c.instance.iter().copied(), u32::to_le_bytes)
+    })?;
+    let bytes = zip.finish().map_err(std::io::Error::other)?.into_inner();
+    w.write_all(&bytes)
+}
+
+/// Writes a float32 H×W depth image in metres (z in the camera frame), NaN where no data.
+pub fn write_depth_npy(
+    w: &mut dyn Write,
+    width: usize,
+    height: usize,
+    depth: impl Iterator<Item = f32>,
+) -> Result<()> {
+    array(w, "<f4", &[height, width], depth, f32::to_le_bytes)
+}

@@ -1,0 +1,37 @@
+//! PCD v0.7, as PCL writes it: binary or ASCII, with PCL's `label` field.
+
+use std::io::{Result, Write};
+
+use crate::cloud::PointCloud;
+
+/// Writes fields `x y z normal_x normal_y normal_z intensity` (F4), `label` (U4, the class) and
+/// `instance` (U4), as an unorganized cloud (HEIGHT 1).
+pub fn write_pcd(w: &mut dyn Write, c: &PointCloud, binary: bool) -> Result<()> {
+    write!(
+        w,
+        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\n\
+         FIELDS x y z normal_x normal_y normal_z intensity label instance\n\
+         SIZE 4 4 4 4 4 4 4 4 4\nTYPE F F F F F F F U U\nCOUNT 1 1 1 1 1 1 1 1 1\n\
+         WIDTH {n}\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\nDATA {}\n",
+        if binary { "binary" } else { "ascii" },
+        n = c.len()
+    )?;
+    for i in 0..c.len() {
+        let [x, y, z] = c.xyz[i].to_array();
+        let [nx, ny, nz] = c.normal[i].to_array();
+        let (intensity, label, instance) = (c.intensity[i], c.class[i] as u32, c.instance[i]);
+        if binary {
+            for f in [x, y, z, nx, ny, nz, intensity] {
+                w.write_all(&f.to_le_bytes())?;
+            }
+            w.write_all(&label.to_le_bytes())?;
+            w.write_all(&instance.to_le_bytes())?;
+        } else {
+            writeln!(
+                w,
+                "{x} {y} {z} {nx} {ny} {nz} {intensity} {label} {instance}"
+            )?;
+        }
+    }
+    Ok(())
+}

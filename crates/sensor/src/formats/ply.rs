@@ -1,0 +1,32 @@
+//! Binary little-endian PLY.
+
+use std::io::{Result, Write};
+
+use crate::cloud::PointCloud;
+
+/// Writes `x y z nx ny nz intensity` (float), `class` (ushort) and `instance` (uint) per vertex.
+pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
+    write!(
+        w,
+        "ply\nformat binary_little_endian 1.0\ncomment motorfactory scan\nelement vertex {}\n\
+         property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n\
+         property float nz\nproperty float intensity\nproperty ushort class\nproperty uint instance\nend_header\n",
+        c.len()
+    )?;
+    let mut row = Vec::with_capacity(34);
+    for i in 0..c.len() {
+        row.clear();
+        for x in c.xyz[i]
+            .to_array()
+            .into_iter()
+            .chain(c.normal[i].to_array())
+            .chain([c.intensity[i]])
+        {
+            row.extend_from_slice(&x.to_le_bytes());
+        }
+        row.extend_from_slice(&c.class[i].to_le_bytes());
+        row.extend_from_slice(&c.instance[i].to_le_bytes());
+        w.write_all(&row)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,221 @@
+//! `motorfactory scan`: scan OBJ, STL or PLY meshes with a simulated sensor.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use glam::Vec3;
+use motorgen::Scheme;
+use motorgen::export::write_atomic;
+use sensor::formats::*;
+use sensor::{Frame, Scene, SensorSpec, Units, look_at, scan};
+
+use crate::error::{CliError, CliResult};
+use crate::meshio::read_targets;
+
+/// Cloud formats of `scan`.
+const CLOUD_FORMATS: [&str; 5] = ["ply", "pcd", "pcd-ascii", "npy", "npz"];
+
+/// Scan meshes with a simulated depth sensor and write the cloud and images.
+#[derive(Debug, Args)]
+pub struct ScanCmd {
+    /// A mesh to scan (OBJ, STL or PLY; repeatable). Each file is its own instance; a PLY written
+    /// by `motorfactory motor` keeps its per-part classes and instances.
+    #[arg(long = "mesh", required = true)]
+    meshes: Vec<PathBuf>,
+    /// Sensor preset, or a TOML file with a full sensor specification.
+    #[arg(long, default_value = "zivid-2plus-m130")]
+    sensor: String,
+    /// Camera position and the point it looks at: EYE_X,EYE_Y,EYE_Z,TARGET_X,TARGET_Y,TARGET_Z (m).
+    #[arg(long, allow_hyphen_values = true)]
+    look_at: String,
+    /// World direction that appears up in the image.
+    #[arg(long, default_value = "0,0,1", allow_hyphen_values = true)]
+    up: String,
+    /// Pixel binning: 1, 2 or 4.
+    #[arg(long, default_value_t = 1)]
+    binning: u32,
+    /// Cloud formats, comma-separated: ply, pcd, pcd-ascii, npy (SynMotor N×7), npz.
+    #[arg(long, value_delimiter = ',', default_value = "ply")]
+    format: Vec<String>,
+    /// Also write depth, normal, label, instance and intensity images.
+    #[arg(long)]
+    images: bool,
+    /// Frame of the written points: camera (OpenCV), world or blensor.
+    #[arg(long, default_value = "camera")]
+    frame: String,
+    /// Units of the written points: m or mm.
+    #[arg(long, default_value = "m")]
+    units: String,
+    /// Noise seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+fn numbers(flag: &str, text: &str, n: usize) -> CliResult<Vec<f32>> {
+    let v: Vec<f32> = text
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .unwrap_or_default();
+    if v.len() != n || v.iter().any(|x| !x.is_finite()) {
+        return Err(CliError::Usage(format!(
+            "--{flag} {text}: expected {n} comma-separated numbers"
+        )));
+    }
+    Ok(v)
+}
+
+fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> CliResult<T> {
+    options
+        .iter()
+        .find(|(name, _)| *name == value)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
+            CliError::Usage(format!(
+                "--{flag} \"{value}\" is not allowed: expected one of {}",
+                names.join(", ")
+            ))
+        })
+}
+
+/// A preset name or a TOML sensor file.
+fn read_sensor(name: &str) -> CliResult<SensorSpec> {
+    if Path::new(name).extension().is_some_and(|e| e == "toml") {
+        let text =
+            std::fs::read_to_string(name).map_err(|e| CliError::Usage(format!("{name}: {e}")))?;
+        toml::from_str(&text).map_err(|e| CliError::Usage(format!("{name}: {e}")))
+    } else {
+        SensorSpec::preset(name).map_err(|e| CliError::Usage(e.to_string()))
+    }
+}
+
+impl ScanCmd {
+    /// Runs the command.
+    pub fn run(&self) -> CliResult<()> {
+        let mut spec = read_sensor(&self.sensor)?;
+        if ![1, 2, 4].contains(&self.binning) {
+            return Err(CliError::Usage(format!(
+                "--binning {} is not allowed: expected 1, 2 or 4",
+                self.binning
+            )));
+        }
+        spec.intrinsics = spec.intrinsics.binned(self.binning);
+        spec.validate()
+            .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
+        let v = numbers("look-at", &self.look_at, 6)?;
+        let up = numbers("up", &self.up, 3)?;
+        let pose = look_at(
+            Vec3::new(v[0], v[1], v[2]),
+            Vec3::new(v[3], v[4], v[5]),
+            Vec3::from_slice(&up),
+        )
+        .ok_or_else(|| {
+            CliError::Usage(format!(
+                "--look-at {}: eye and target must differ",
+                self.look_at
+            ))
+        })?;
+        let frame = choice(
+            "frame",
+            &self.frame,
+            &[
+                ("camera", Frame::Camera),
+                ("world", Frame::World),
+                ("blensor", Frame::Blensor),
+            ],
+        )?;
+        let units = choice(
+            "units",
+            &self.units,
+            &[("m", Units::Metres), ("mm", Units::Millimetres)],
+        )?;
+        for f in &self.format {
+            choice("format", f, &CLOUD_FORMATS.map(|n| (n, ())))?;
+        }
+        let mut targets = Vec::new();
+        for path in &self.meshes {
+            let offset = targets
+                .iter()
+                .map(|t: &sensor::Target| t.instance)
+                .max()
+                .unwrap_or(0);
+            targets.extend(read_targets(path)?.into_iter().map(|mut t| {
+                t.instance += offset;
+                t
+            }));
+        }
+        std::fs::create_dir_all(&self.out).map_err(|e| {
+            CliError::Usage(format!(
+                "cannot create output folder {}: {e}",
+                self.out.display()
+            ))
+        })?;
+
+        let start = std::time::Instant::now();
+        let scene = Scene::new(&targets);
+        let result = scan(&scene, &spec, &pose, self.seed);
+        let cloud = result.cloud(false, frame, units);
+        let palette: Vec<[u8; 3]> = Scheme::SynMotor.classes().iter().map(|c| c.color).collect();
+        let save = |name: &str, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| {
+            write_atomic(&self.out.join(name), body).map_err(|e| CliError::Runtime(e.to_string()))
+        };
+        for f in &self.format {
+            match f.as_str() {
+                "ply" => save("cloud.ply", &|w| write_ply(w, &cloud))?,
+                "pcd" => save("cloud.pcd", &|w| write_pcd(w, &cloud, true))?,
+                "pcd-ascii" => save("cloud_ascii.pcd", &|w| write_pcd(w, &cloud, false))?,
+                "npy" => save("cloud.npy", &|w| write_npy_synmotor(w, &cloud, &palette))?,
+                _ => save("cloud.npz", &|w| write_npz(w, &cloud))?,
+            }
+        }
+        if self.images {
+            let (w, h) = (result.width as usize, result.height as usize);
+            save("depth.png", &|o| write_depth_png(o, &result, false))?;
+            save("depth.npy", &|o| {
+                write_depth_npy(o, w, h, result.pixels.iter().map(|p| p.point.z))
+            })?;
+            save("depth_clean.npy", &|o| {
+                write_depth_npy(o, w, h, result.pixels.iter().map(|p| p.clean.z))
+            })?;
+            save("normals.png", &|o| write_normal_png(o, &result))?;
+            save("labels.png", &|o| write_label_png(o, &result, false))?;
+            save("instances.png", &|o| write_label_png(o, &result, true))?;
+            save("intensity.png", &|o| write_intensity_png(o, &result))?;
+        }
+        let summary = serde_json::json!({
+            "sensor": spec,
+            "camera_to_world": pose_matrix(&pose),
+            "seed": self.seed,
+            "frame": frame,
+            "units": units,
+            "points": cloud.len(),
+            "pixels": { "width": result.width, "height": result.height, "valid": result.valid_count() },
+            "depth_png_metres_per_unit": DEPTH_PNG_METRES_PER_UNIT,
+            "triangles": scene.triangle_count(),
+        });
+        save("scan.json", &|w| {
+            serde_json::to_writer_pretty(&mut *w, &summary)?;
+            w.write_all(b"\n")
+        })?;
+        eprintln!(
+            "{} points from {} of {} pixels ({} triangles) in {:.2} s, written to {}",
+            cloud.len(),
+            result.valid_count(),
+            result.pixels.len(),
+            scene.triangle_count(),
+            start.elapsed().as_secs_f64(),
+            self.out.display()
+        );
+        Ok(())
+    }
+}
+
+/// Row-major 4×4 matrix.
+fn pose_matrix(pose: &glam::Affine3A) -> [[f32; 4]; 4] {
+    glam::Mat4::from(*pose).transpose().to_cols_array_2d()
+}
