@@ -220,3 +220,255 @@ fn params_lists_every_parameter() {
         assert!(text.contains(&format!("{}\n", p.key)), "{}", p.key);
     }
 }
+
+#[test]
+fn scan_of_a_motor_keeps_its_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = dir.path().join("m");
+    assert!(
+        run(&[
+            "motor",
+            "--format",
+            "ply,stl",
+            "--detail",
+            "coarse",
+            "--out",
+            m.to_str().unwrap()
+        ])
+        .status
+        .success()
+    );
+    let out = dir.path().join("s");
+    let o = run(&[
+        "scan",
+        "--mesh",
+        m.join("motor.ply").to_str().unwrap(),
+        "--mesh",
+        m.join("cover_bolt_1.stl").to_str().unwrap(),
+        "--sensor",
+        "zivid-2plus-m130",
+        "--binning",
+        "4",
+        "--look-at",
+        "0.05,-1.2,0.6,0,0,0.09",
+        "--format",
+        "ply,pcd,pcd-ascii,npy,npz",
+        "--images",
+        "--seed",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let files = tree(&out);
+    for f in [
+        "cloud.ply",
+        "cloud.pcd",
+        "cloud_ascii.pcd",
+        "cloud.npy",
+        "cloud.npz",
+        "depth.png",
+        "depth.npy",
+        "normals.png",
+        "labels.png",
+        "instances.png",
+        "intensity.png",
+        "scan.json",
+    ] {
+        assert!(files.contains_key(f), "{f}");
+    }
+    let summary: serde_json::Value = serde_json::from_slice(&files["scan.json"]).unwrap();
+    assert_eq!(summary["pixels"]["width"], 612);
+    let points = summary["points"].as_u64().unwrap();
+    assert!(points > 1000, "{points}");
+    // N×7 float32 after a 128-byte header: every SynMotor class of the visible parts appears
+    let npy = &files["cloud.npy"];
+    assert_eq!(npy.len(), 128 + points as usize * 7 * 4);
+    let labels: std::collections::BTreeSet<u32> = npy[128..]
+        .chunks_exact(28)
+        .map(|r| f32::from_le_bytes(r[24..28].try_into().unwrap()) as u32)
+        .collect();
+    assert!(
+        [1, 2, 4, 6].iter().all(|c| labels.contains(c)),
+        "{labels:?}"
+    );
+    // the same seed gives the same bytes
+    let again = dir.path().join("s2");
+    let o = run(&[
+        "scan",
+        "--mesh",
+        m.join("motor.ply").to_str().unwrap(),
+        "--mesh",
+        m.join("cover_bolt_1.stl").to_str().unwrap(),
+        "--sensor",
+        "zivid-2plus-m130",
+        "--binning",
+        "4",
+        "--look-at",
+        "0.05,-1.2,0.6,0,0,0.09",
+        "--format",
+        "ply,pcd,pcd-ascii,npy,npz",
+        "--images",
+        "--seed",
+        "3",
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    assert!(tree(&again) == files);
+}
+
+#[test]
+fn scan_bad_input_exits_2_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let o_str = out.to_str().unwrap();
+    let empty = dir.path().join("empty.obj");
+    std::fs::write(&empty, "# nothing\n").unwrap();
+    let garbage = dir.path().join("garbage.stl");
+    std::fs::write(&garbage, "not an stl").unwrap();
+    let cube = dir.path().join("cube.obj");
+    std::fs::write(&cube, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let bad_sensor = dir.path().join("bad.toml");
+    let mut spec = toml::to_string(&sensor::SensorSpec::preset("ideal").unwrap()).unwrap();
+    spec = spec.replace("fx = 4060.0", "fx = -1.0");
+    std::fs::write(&bad_sensor, spec).unwrap();
+    let cube_s = cube.to_str().unwrap();
+    let la = "0,0,-2,0,0,0";
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![
+                "scan",
+                "--mesh",
+                "/no/such.obj",
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "cannot read mesh /no/such.obj",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                empty.to_str().unwrap(),
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "no triangles",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                garbage.to_str().unwrap(),
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "cannot read mesh",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                "mesh.fbx",
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "expected obj, stl or ply",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--sensor",
+                "zivid-9",
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "unknown sensor preset \"zivid-9\"",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--sensor",
+                bad_sensor.to_str().unwrap(),
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "intrinsics.fx = -1",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--look-at",
+                "1,2,3",
+                "--out",
+                o_str,
+            ],
+            "expected 6 comma-separated numbers",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--look-at",
+                "1,1,1,1,1,1",
+                "--out",
+                o_str,
+            ],
+            "eye and target must differ",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--look-at",
+                la,
+                "--format",
+                "las",
+                "--out",
+                o_str,
+            ],
+            "--format \"las\"",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--look-at",
+                la,
+                "--binning",
+                "3",
+                "--out",
+                o_str,
+            ],
+            "--binning 3",
+        ),
+    ];
+    for (args, message) in cases {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{args:?} wrote output");
+    }
+}

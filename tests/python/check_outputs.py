@@ -1,0 +1,79 @@
+"""Reads motorfactory's outputs back with independent readers (numpy, Open3D) and checks them
+against each other and against scan.json.
+
+Usage: python3 tests/python/check_outputs.py SCAN_DIR MOTOR_DIR
+"""
+import json
+import sys
+
+import numpy as np
+import open3d as o3d
+
+passed = failed = 0
+
+
+def check(name, ok, detail=""):
+    global passed, failed
+    if ok:
+        passed += 1
+    else:
+        failed += 1
+        print(f"FAILED {name} {detail}")
+
+
+def main(scan_dir, motor_dir):
+    summary = json.load(open(f"{scan_dir}/scan.json"))
+    n = summary["points"]
+
+    table = np.load(f"{scan_dir}/cloud.npy")
+    check("npy shape", table.shape == (n, 7) and table.dtype == np.float32, table.shape)
+    xyz = table[:, :3]
+    labels = table[:, 6]
+    check("npy labels are classes", np.all(labels == np.round(labels)) and labels.min() >= 0)
+    check("npy colours in 0..1", table[:, 3:6].min() >= 0 and table[:, 3:6].max() <= 1)
+
+    npz = np.load(f"{scan_dir}/cloud.npz")
+    check("npz arrays", sorted(npz.files) == ["instance", "intensity", "label", "normal", "xyz"], npz.files)
+    check("npz xyz equals npy xyz", np.array_equal(npz["xyz"], xyz))
+    check("npz labels", np.array_equal(npz["label"].astype(np.float32), labels) and npz["label"].dtype == np.uint16)
+    check("npz normals are unit", np.allclose(np.linalg.norm(npz["normal"], axis=1), 1, atol=1e-4))
+    check("npz instance dtype", npz["instance"].dtype == np.uint32)
+
+    for name in ["cloud.ply", "cloud.pcd", "cloud_ascii.pcd"]:
+        pc = o3d.io.read_point_cloud(f"{scan_dir}/{name}")
+        pts = np.asarray(pc.points)
+        check(f"open3d {name} count", len(pts) == n, f"{len(pts)} vs {n}")
+        check(f"open3d {name} points", len(pts) == n and np.allclose(pts, xyz, atol=1e-5))
+        check(f"open3d {name} normals", pc.has_normals() and np.allclose(np.asarray(pc.normals), npz["normal"], atol=1e-5))
+
+    depth = np.load(f"{scan_dir}/depth.npy")
+    h, w = summary["pixels"]["height"], summary["pixels"]["width"]
+    check("depth shape", depth.shape == (h, w), depth.shape)
+    check("depth valid pixels", int(np.count_nonzero(~np.isnan(depth))) == summary["pixels"]["valid"])
+    png = np.asarray(o3d.io.read_image(f"{scan_dir}/depth.png")).astype(np.float64) * summary["depth_png_metres_per_unit"]
+    valid = ~np.isnan(depth)
+    check("depth png matches depth npy", png.shape == depth.shape and np.all(np.abs(png[valid] - depth[valid]) <= 0.51e-4))
+    check("depth png zero where no data", np.all(png[~valid] == 0))
+    labels_png = np.asarray(o3d.io.read_image(f"{scan_dir}/labels.png"))
+    check("label png holds the cloud's classes", set(np.unique(labels)) <= set(np.unique(labels_png).astype(float)))
+
+    for ext in ["obj", "stl", "ply"]:
+        mesh = o3d.io.read_triangle_mesh(f"{motor_dir}/motor.{ext}")
+        check(f"open3d motor.{ext} triangles", len(mesh.triangles) > 1000, len(mesh.triangles))
+    attrs = json.load(open(f"{motor_dir}/attributes.json"))
+    for part in attrs["attributes"]["parts"]:
+        mesh = o3d.io.read_triangle_mesh(f"{motor_dir}/{part['name']}.ply")
+        check(f"open3d {part['name']} edge-manifold and closed",
+              mesh.is_edge_manifold(allow_boundary_edges=False) and mesh.is_orientable())
+    bolt = o3d.io.read_triangle_mesh(f"{motor_dir}/side_bolt_1.ply")
+    check("open3d: a bolt is watertight", bolt.is_watertight())
+    total = sum(p["triangles"] for p in attrs["attributes"]["parts"])
+    ply = o3d.io.read_triangle_mesh(f"{motor_dir}/motor.ply")
+    check("motor.ply triangles match attributes.json", len(ply.triangles) == total, f"{len(ply.triangles)} vs {total}")
+
+    print(f"python readers: {passed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1], sys.argv[2]))
