@@ -475,9 +475,19 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
 
 #[test]
 fn readme_sensor_example_is_a_valid_sensor() {
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
-    let after = readme.split("A custom sensor is a TOML file").nth(1).unwrap();
-    let block = after.split("```toml\n").nth(1).unwrap().split("```").next().unwrap();
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let after = readme
+        .split("A custom sensor is a TOML file")
+        .nth(1)
+        .unwrap();
+    let block = after
+        .split("```toml\n")
+        .nth(1)
+        .unwrap()
+        .split("```")
+        .next()
+        .unwrap();
     let spec: sensor::SensorSpec = toml::from_str(block).unwrap();
     spec.validate().unwrap();
     assert_eq!(spec.noise.axial.per_metre, 1.5e-4);

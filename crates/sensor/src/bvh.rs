@@ -2,12 +2,12 @@
 //! adjacent children and leaf triangles stored in traversal order, then traversed nearest child
 //! first with a Möller–Trumbore triangle test that allocates nothing.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh as ParryBvh, BvhBuildStrategy, TraversalAction};
 
-/// A node: an internal node's children are at `child` and `child + 1`; a leaf holds one
-/// triangle, `prim`, an index into the leaf-ordered triangle arrays.
+/// A node of parry's binary tree as flattened: an internal node's children are at `child` and
+/// `child + 1`; a leaf holds one triangle, `prim` (an input triangle index).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 struct Node {
@@ -19,6 +19,30 @@ struct Node {
 
 const INTERNAL: u32 = u32::MAX;
 
+/// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
+/// maxima), and each child's code: an internal node index, [`LEAF`] | triangle slot, or
+/// [`EMPTY`] (whose box is inverted, +∞ to -∞, so that no ray enters it).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Node4 {
+    lo: [Vec4; 3],
+    hi: [Vec4; 3],
+    child: [u32; 4],
+}
+
+/// Child code bit of a leaf.
+const LEAF: u32 = 1 << 31;
+/// Child code of an unused lane.
+const EMPTY: u32 = u32::MAX;
+
+impl Node4 {
+    const VACANT: Node4 = Node4 {
+        lo: [Vec4::INFINITY; 3],
+        hi: [Vec4::NEG_INFINITY; 3],
+        child: [EMPTY; 4],
+    };
+}
+
 /// A triangle's vertices.
 type Tri = [Vec3; 3];
 
@@ -26,8 +50,9 @@ type Tri = [Vec3; 3];
 /// meshes with binned SAH.
 const PLOC_FROM: usize = 50_000;
 
-/// Traversal stack depth; parry's trees of a few million leaves stay far below it.
-const STACK: usize = 96;
+/// Traversal stack depth: a 4-wide node pushes at most 3 entries per level, and parry's trees of
+/// a few million leaves are well under 40 levels deep.
+const STACK: usize = 128;
 
 /// The closest intersection along a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,7 +70,9 @@ pub struct Hit {
 /// A bounding volume hierarchy over triangles.
 #[derive(Clone, Debug)]
 pub struct Bvh {
-    nodes: Vec<Node>,
+    nodes: Vec<Node4>,
+    /// Child code of the root: a node, a single leaf, or [`EMPTY`].
+    root: u32,
     tris: Vec<Tri>,
     /// Input triangle index of each leaf-ordered triangle.
     order: Vec<u32>,
@@ -54,12 +81,14 @@ pub struct Bvh {
 impl Bvh {
     /// Builds the hierarchy over triangles given by vertex positions.
     pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
+        let mut bvh = Bvh {
+            nodes: Vec::new(),
+            root: EMPTY,
+            tris: Vec::new(),
+            order: Vec::new(),
+        };
         if triangles.is_empty() {
-            return Bvh {
-                nodes: Vec::new(),
-                tris: Vec::new(),
-                order: Vec::new(),
-            };
+            return bvh;
         }
         let strategy = if triangles.len() >= PLOC_FROM {
             BvhBuildStrategy::Ploc
@@ -69,92 +98,52 @@ impl Bvh {
         let aabbs = triangles
             .iter()
             .map(|t| Aabb::from_points(t.iter().copied()));
-        let parry = ParryBvh::from_iter(strategy, aabbs.enumerate());
-        let mut bvh = Bvh {
-            nodes: Vec::with_capacity(2 * triangles.len()),
-            tris: Vec::new(),
-            order: Vec::new(),
-        };
-        bvh.flatten(&parry);
-        bvh.order = bvh
-            .nodes
-            .iter()
-            .filter(|n| n.prim != INTERNAL)
-            .map(|n| n.prim)
-            .collect();
-        // renumber leaves in traversal order so that neighbouring leaves share cache lines
-        for (slot, n) in bvh
-            .nodes
-            .iter_mut()
-            .filter(|n| n.prim != INTERNAL)
-            .enumerate()
-        {
-            n.prim = slot as u32;
-        }
-        bvh.tris = bvh.order.iter().map(|&i| triangles[i as usize]).collect();
+        let binary = flatten(&ParryBvh::from_iter(strategy, aabbs.enumerate()));
+        bvh.nodes.reserve(triangles.len() / 2);
+        bvh.tris.reserve(triangles.len());
+        bvh.order.reserve(triangles.len());
+        bvh.root = bvh.collapse(&binary, 0, triangles);
         bvh
     }
 
-    /// Copies parry's tree, whose topology is read through its public depth-first traversal:
-    /// it visits both children of a node as a pair, then descends left first, deferring a right
-    /// subtree on its stack; mirroring that order tells whose children each pair is.
-    fn flatten(&mut self, parry: &ParryBvh) {
-        let root = parry.root_aabb();
-        self.nodes.push(Node {
-            min: root.mins,
-            child: 1,
-            max: root.maxs,
-            prim: INTERNAL,
-        });
-        let mut owner: Option<u32> = Some(0);
-        let mut deferred: Vec<u32> = Vec::new();
-        let mut pair: Vec<(u32, bool)> = Vec::with_capacity(2);
-        let single_leaf = parry.leaf_count() == 1;
-        parry.traverse(|node| {
-            let index = self.nodes.len() as u32;
-            if pair.is_empty() {
-                let parent = owner.take().expect("every visited pair has a parent");
-                self.nodes[parent as usize].child = index;
-            }
-            let aabb = node.aabb();
-            let leaf = node.leaf_data();
-            self.nodes.push(Node {
-                min: aabb.mins,
-                child: 0,
-                max: aabb.maxs,
-                prim: leaf.unwrap_or(INTERNAL),
-            });
-            pair.push((index, leaf.is_none()));
-            if pair.len() == 2 || single_leaf {
-                match (pair[0], pair.get(1).copied().unwrap_or((0, false))) {
-                    ((l, true), (r, true)) => {
-                        owner = Some(l);
-                        deferred.push(r);
-                    }
-                    ((l, true), _) => owner = Some(l),
-                    (_, (r, true)) => owner = Some(r),
-                    _ => owner = deferred.pop(),
-                }
-                pair.clear();
-            }
-            TraversalAction::Continue
-        });
-        if single_leaf {
-            // parry stores a lone leaf without a sibling: make the root that leaf
-            let leaf = self.nodes[1];
-            self.nodes = vec![leaf];
+    /// The child code of binary node `i`, building 4-wide nodes below it. Leaves take the next
+    /// triangle slots, so triangles end up in traversal order.
+    fn collapse(&mut self, binary: &[Node], i: usize, triangles: &[[Vec3; 3]]) -> u32 {
+        let n = &binary[i];
+        if n.prim != INTERNAL {
+            self.order.push(n.prim);
+            self.tris.push(triangles[n.prim as usize]);
+            return LEAF | (self.tris.len() as u32 - 1);
         }
-    }
-
-    /// (nodes visited, leaves tested) along a ray: traversal cost, for diagnostics.
-    pub fn cost(&self, origin: Vec3, dir: Vec3, t_max: f32) -> (u32, u32) {
-        let ray = ShearedRay::new(origin, dir);
-        let mut leaves = 0;
-        let nodes = self.walk(origin, dir, t_max, |tri, best_t| {
-            leaves += 1;
-            ray.intersect(&self.tris[tri as usize], best_t).map(|h| h.0)
-        });
-        (nodes, leaves)
+        // open the largest internal child until there are four
+        let mut kids = vec![n.child as usize, n.child as usize + 1];
+        while kids.len() < 4 {
+            let area = |k: usize| {
+                let e = binary[k].max - binary[k].min;
+                e.x * e.y + e.y * e.z + e.z * e.x
+            };
+            let Some(open) = (0..kids.len())
+                .filter(|&j| binary[kids[j]].prim == INTERNAL)
+                .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])))
+            else {
+                break;
+            };
+            let c = binary[kids[open]].child as usize;
+            kids[open] = c;
+            kids.push(c + 1);
+        }
+        let index = self.nodes.len();
+        self.nodes.push(Node4::VACANT);
+        let mut node = Node4::VACANT;
+        for (lane, &k) in kids.iter().enumerate() {
+            for axis in 0..3 {
+                node.lo[axis][lane] = binary[k].min[axis];
+                node.hi[axis][lane] = binary[k].max[axis];
+            }
+            node.child[lane] = self.collapse(binary, k, triangles);
+        }
+        self.nodes[index] = node;
+        index as u32
     }
 
     /// Number of triangles.
@@ -178,16 +167,14 @@ impl Bvh {
         };
         let ray = ShearedRay::new(origin, dir);
         self.walk(origin, dir, t_max, |tri, best_t| {
-            if let Some((t, u, v)) = ray.intersect(&self.tris[tri as usize], best_t) {
-                best = Hit {
-                    t,
-                    triangle: tri,
-                    u,
-                    v,
-                };
-                return Some(t);
-            }
-            None
+            let (t, u, v) = ray.intersect(&self.tris[tri as usize], best_t)?;
+            best = Hit {
+                t,
+                triangle: tri,
+                u,
+                v,
+            };
+            Some(t)
         });
         (best.triangle != u32::MAX).then(|| Hit {
             triangle: self.order[best.triangle as usize],
@@ -198,20 +185,29 @@ impl Bvh {
     /// Whether anything lies on `origin + t·dir` for `t` in (0, `t_max`).
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
-        let mut hit = false;
         let ray = ShearedRay::new(origin, dir);
+        let mut hit = false;
         self.walk(origin, dir, t_max, |tri, best_t| {
-            if ray.intersect(&self.tris[tri as usize], best_t).is_some() {
-                hit = true;
-                return Some(0.0); // shrinks the interval to nothing: stop
-            }
-            None
+            let blocked = ray.intersect(&self.tris[tri as usize], best_t).is_some();
+            hit |= blocked;
+            blocked.then_some(0.0) // a closest distance of 0 ends the walk
         });
         hit
     }
 
-    /// Visits leaves along the ray nearest first; `leaf` returns a new closest distance when
-    /// the triangle is hit closer than the current one.
+    /// (nodes visited, triangles tested) along a ray: traversal cost, for diagnostics.
+    pub fn cost(&self, origin: Vec3, dir: Vec3, t_max: f32) -> (u32, u32) {
+        let ray = ShearedRay::new(origin, dir);
+        let mut leaves = 0;
+        let nodes = self.walk(origin, dir, t_max, |tri, best_t| {
+            leaves += 1;
+            ray.intersect(&self.tris[tri as usize], best_t).map(|h| h.0)
+        });
+        (nodes, leaves)
+    }
+
+    /// Visits the leaves along the ray, nearest box first; `leaf` returns the new closest
+    /// distance when its triangle is hit nearer than the current one. Returns the nodes visited.
     #[inline(always)]
     fn walk(
         &self,
@@ -220,69 +216,157 @@ impl Bvh {
         t_max: f32,
         mut leaf: impl FnMut(u32, f32) -> Option<f32>,
     ) -> u32 {
-        let mut visited = 0;
-        if self.nodes.is_empty() {
-            return visited;
-        }
-        let inv = dir.recip();
         let mut best = t_max;
+        if self.root == EMPTY {
+            return 0;
+        }
+        if self.root & LEAF != 0 {
+            leaf(self.root & !LEAF, best);
+            return 0;
+        }
+        // no zero components: 0·∞ would poison the lanes with NaN
+        let safe = |c: f32| {
+            if c.abs() < 1e-20 {
+                1e-20f32.copysign(c)
+            } else {
+                c
+            }
+        };
+        let inv = Vec3::new(safe(dir.x), safe(dir.y), safe(dir.z)).recip();
+        let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
+        let o = [
+            Vec4::splat(origin.x),
+            Vec4::splat(origin.y),
+            Vec4::splat(origin.z),
+        ];
+        let i = [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)];
+        let widen = Vec4::splat(1.0 + 2.0 * GAMMA3);
         let mut stack = [(0u32, 0.0f32); STACK];
         let mut sp = 0;
-        let root = &self.nodes[0];
-        let Some(t0) = slab(root, origin, inv, best) else {
-            return visited;
-        };
-        stack[0] = (0, t0);
-        sp += 1;
-        while sp > 0 {
-            sp -= 1;
-            let (mut cur, t_enter) = stack[sp];
-            if t_enter >= best {
-                continue;
-            }
-            loop {
-                visited += 1;
-                let n = &self.nodes[cur as usize];
-                if n.prim != INTERNAL {
-                    if let Some(t) = leaf(n.prim, best) {
-                        best = t;
-                    }
-                    break;
-                }
-                let (a, b) = (n.child, n.child + 1);
-                let ta = slab(&self.nodes[a as usize], origin, inv, best);
-                let tb = slab(&self.nodes[b as usize], origin, inv, best);
-                cur = match (ta, tb) {
-                    (Some(ta), Some(tb)) => {
-                        let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
-                        stack[sp] = (far, t_far);
-                        sp += 1;
-                        near
-                    }
-                    (Some(_), None) => a,
-                    (None, Some(_)) => b,
-                    (None, None) => break,
+        let mut visited = 0;
+        let mut cur = self.root;
+        loop {
+            visited += 1;
+            let n = &self.nodes[cur as usize];
+            let mut near = Vec4::ZERO;
+            let mut far = Vec4::splat(best);
+            for axis in 0..3 {
+                let (a, b) = if neg[axis] {
+                    (n.hi[axis], n.lo[axis])
+                } else {
+                    (n.lo[axis], n.hi[axis])
                 };
+                near = near.max((a - o[axis]) * i[axis]);
+                far = far.min((b - o[axis]) * i[axis] * widen);
             }
+            let mut mask = near.cmple(far).bitmask();
+            // the entered children, nearest first; leaves are tested on the spot
+            let mut entered = [(0u32, 0.0f32); 4];
+            let mut count = 0;
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let (code, t) = (n.child[lane], near[lane]);
+                if code & LEAF != 0 {
+                    if let Some(hit) = leaf(code & !LEAF, best) {
+                        best = hit;
+                    }
+                } else {
+                    let mut j = count;
+                    while j > 0 && entered[j - 1].1 > t {
+                        entered[j] = entered[j - 1];
+                        j -= 1;
+                    }
+                    entered[j] = (code, t);
+                    count += 1;
+                }
+            }
+            if best <= 0.0 {
+                return visited;
+            }
+            // go to the nearest child still in reach, defer the others (farthest deepest)
+            let mut next = None;
+            for &(code, t) in entered[..count].iter().rev() {
+                if t >= best {
+                    continue;
+                }
+                if let Some(deferred) = next.replace((code, t)) {
+                    stack[sp] = deferred;
+                    sp += 1;
+                }
+            }
+            cur = match next {
+                Some((code, _)) => code,
+                None => loop {
+                    if sp == 0 {
+                        return visited;
+                    }
+                    sp -= 1;
+                    let (code, t) = stack[sp];
+                    if t < best {
+                        break code;
+                    }
+                },
+            };
         }
-        visited
     }
+}
+
+/// Copies parry's binary tree into adjacent-children order. Its topology is read through parry's
+/// public depth-first traversal: it visits both children of a node as a pair, then descends left
+/// first, deferring a right subtree on its stack; mirroring that order tells whose children each
+/// pair is. Index 0 is the root.
+fn flatten(parry: &ParryBvh) -> Vec<Node> {
+    let root = parry.root_aabb();
+    let mut nodes = vec![Node {
+        min: root.mins,
+        child: 1,
+        max: root.maxs,
+        prim: INTERNAL,
+    }];
+    let mut owner: Option<u32> = Some(0);
+    let mut deferred: Vec<u32> = Vec::new();
+    let mut pair: Vec<(u32, bool)> = Vec::with_capacity(2);
+    let single_leaf = parry.leaf_count() == 1;
+    parry.traverse(|node| {
+        let index = nodes.len() as u32;
+        if pair.is_empty() {
+            let parent = owner.take().expect("every visited pair has a parent");
+            nodes[parent as usize].child = index;
+        }
+        let aabb = node.aabb();
+        let leaf = node.leaf_data();
+        nodes.push(Node {
+            min: aabb.mins,
+            child: 0,
+            max: aabb.maxs,
+            prim: leaf.unwrap_or(INTERNAL),
+        });
+        pair.push((index, leaf.is_none()));
+        if pair.len() == 2 || single_leaf {
+            match (pair[0], pair.get(1).copied().unwrap_or((0, false))) {
+                ((l, true), (r, true)) => {
+                    owner = Some(l);
+                    deferred.push(r);
+                }
+                ((l, true), _) => owner = Some(l),
+                (_, (r, true)) => owner = Some(r),
+                _ => owner = deferred.pop(),
+            }
+            pair.clear();
+        }
+        TraversalAction::Continue
+    });
+    if single_leaf {
+        // parry stores a lone leaf without a sibling: the root is that leaf
+        nodes.swap(0, 1);
+        nodes.truncate(1);
+    }
+    nodes
 }
 
 /// γ(3) = 3ε / (1 - 3ε): the relative error bound of three f32 operations.
 const GAMMA3: f32 = 3.0 * f32::EPSILON / (1.0 - 3.0 * f32::EPSILON);
-
-/// Entry distance of the ray into the node's box, if it enters before `best`.
-#[inline(always)]
-fn slab(n: &Node, origin: Vec3, inv: Vec3, best: f32) -> Option<f32> {
-    // (min - origin)·inv, not min·inv - origin·inv: the latter is ∞ - ∞ for axis-parallel rays
-    let t1 = (n.min - origin) * inv;
-    let t2 = (n.max - origin) * inv;
-    let near = t1.min(t2).max_element().max(0.0);
-    // widened by 2γ(3) so that rounding never drops a box the ray grazes (Ize, JCGT 2013)
-    let far = (t1.max(t2).min_element() * (1.0 + 2.0 * GAMMA3)).min(best);
-    (near <= far).then_some(near)
-}
 
 /// A ray prepared for the watertight test: its dominant axis becomes z, and a shear maps the
 /// direction onto +z.

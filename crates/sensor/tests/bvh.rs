@@ -4,29 +4,29 @@ use glam::Vec3;
 use proptest::prelude::*;
 use sensor::Bvh;
 
+/// The nearest hit by testing every triangle in f64 (Möller–Trumbore with a 1e-12 tolerance).
 fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, u32)> {
-    let mut best: Option<(f32, u32)> = None;
-    for (i, [a, b, c]) in tris.iter().enumerate() {
-        let (e1, e2) = (*b - *a, *c - *a);
-        let n = e1.cross(e2);
-        let denom = n.dot(d);
-        if denom.abs() < 1e-12 {
+    let (o, d) = (o.as_dvec3(), d.as_dvec3());
+    let mut best: Option<(f64, u32)> = None;
+    for (i, tri) in tris.iter().enumerate() {
+        let [a, b, c] = tri.map(|v| v.as_dvec3());
+        let (e1, e2) = (b - a, c - a);
+        let p = d.cross(e2);
+        let det = e1.dot(p);
+        if det.abs() < 1e-18 {
             continue;
         }
-        let t = n.dot(*a - o) / denom;
-        if t <= 0.0 || t >= t_max || best.is_some_and(|(bt, _)| t >= bt) {
-            continue;
-        }
-        let p = o + t * d;
-        // inside test by sub-triangle orientations
-        let inside = [(*a, *b), (*b, *c), (*c, *a)]
-            .iter()
-            .all(|(x, y)| (*y - *x).cross(p - *x).dot(n) >= -1e-9);
-        if inside {
+        let s = o - a;
+        let u = s.dot(p) / det;
+        let q = s.cross(e1);
+        let v = d.dot(q) / det;
+        let t = e2.dot(q) / det;
+        let inside = u >= -1e-12 && v >= -1e-12 && u + v <= 1.0 + 1e-12;
+        if inside && t > 0.0 && t < t_max as f64 && best.is_none_or(|(bt, _)| t < bt) {
             best = Some((t, i as u32));
         }
     }
-    best
+    best.map(|(t, i)| (t as f32, i))
 }
 
 fn v3() -> impl Strategy<Value = Vec3> {
@@ -164,6 +164,127 @@ fn watertight_through_vertices_and_edges() {
                 .cast(origin, d, 10.0)
                 .expect("a ray from inside a closed mesh always hits");
             assert!((h.t - (*target - origin).length()).abs() < 1e-5);
+        }
+    }
+}
+
+/// Rays with exactly zero direction components (an image's centre row and column) meet boxes
+/// that are flat or touch the ray's coordinate exactly: 0·∞ in a slab test must not lose hits.
+#[test]
+fn axis_parallel_rays_through_a_sphere_pole_match_brute_force() {
+    let n = 64;
+    let p = |i: usize, j: usize| {
+        let (th, ph) = (
+            std::f32::consts::PI * i as f32 / n as f32,
+            std::f32::consts::TAU * j as f32 / n as f32,
+        );
+        Vec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()) * 0.25 + Vec3::Z * 0.25
+    };
+    let mut tris = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+            tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+        }
+    }
+    let bvh = Bvh::build(&tris);
+    for k in -40..=40 {
+        let s = k as f32 * 0.005;
+        for (o, d) in [
+            (Vec3::new(0.0, s, 1.0), Vec3::NEG_Z),
+            (Vec3::new(s, 0.0, 1.0), Vec3::NEG_Z),
+            (
+                Vec3::new(0.0, 0.0, 1.0),
+                Vec3::new(0.0, s, -1.0).normalize(),
+            ),
+            (
+                Vec3::new(0.0, 0.0, 1.0),
+                Vec3::new(s, 0.0, -1.0).normalize(),
+            ),
+        ] {
+            let want = brute(&tris, o, d, 10.0).map(|h| h.0);
+            let got = bvh.cast(o, d, 10.0).map(|h| h.t);
+            assert_eq!(got.is_some(), want.is_some(), "{o} {d}");
+            if let (Some(g), Some(w)) = (got, want) {
+                assert!((g - w).abs() < 1e-5, "{o} {d}: {g} vs {w}");
+            }
+        }
+    }
+}
+
+/// Two triangles meeting on the line y = 0, so that their boxes end exactly at y = 0, and rays
+/// in the plane y = 0: a slab test computing 0·∞ skips both boxes and the ray leaks through.
+#[test]
+fn rays_in_the_plane_where_boxes_end_still_hit() {
+    let tris = [
+        [
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ],
+        [
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+        ],
+        [
+            Vec3::new(5.0, 5.0, -1.0),
+            Vec3::new(6.0, 5.0, -1.0),
+            Vec3::new(5.0, 6.0, -1.0),
+        ],
+    ];
+    let bvh = Bvh::build(&tris);
+    // every ray lands on the shared edge, between x = -0.8 and 0.9
+    for k in -6..=6 {
+        let x = k as f32 * 0.1;
+        for d in [
+            Vec3::NEG_Z,
+            Vec3::new(0.3, 0.0, -1.0).normalize(),
+            Vec3::new(-0.2, 0.0, -1.0).normalize(),
+        ] {
+            let o = Vec3::new(x, 0.0, 1.0);
+            let h = bvh
+                .cast(o, d, 10.0)
+                .unwrap_or_else(|| panic!("ray from {o} along {d} leaked"));
+            assert!((h.t - 1.0 / -d.z).abs() < 1e-5);
+            assert!(bvh.occluded(o, d, 10.0));
+        }
+    }
+}
+
+/// The case that leaked in a slab test computing 0·∞: a sphere tessellated in f64 and stored
+/// in f32 (so one meridian lies at y = 0 exactly and its neighbour's closing edge at y = -2e-16),
+/// seen by the centre row of a camera, whose rays have a direction y of exactly 0.
+#[test]
+fn centre_row_rays_on_an_f64_tessellated_sphere_match_brute_force() {
+    let n = 40;
+    let p = |i: usize, j: usize| {
+        let (th, ph) = (
+            std::f64::consts::PI * i as f64 / n as f64,
+            std::f64::consts::TAU * j as f64 / n as f64,
+        );
+        glam::DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos() + 1.0).as_vec3() * 0.25
+    };
+    let mut tris = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+            tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+        }
+    }
+    let bvh = Bvh::build(&tris);
+    for u in 0..400 {
+        let d = Vec3::new((u as f32 - 200.0) / 300.0, 0.0, -1.0).normalize();
+        let o = Vec3::new(0.0, 0.0, 1.0);
+        let want = brute(&tris, o, d, 10.0).map(|h| h.0);
+        let got = bvh.cast(o, d, 10.0).map(|h| h.t);
+        assert_eq!(
+            got.is_some(),
+            want.is_some(),
+            "column {u}: {got:?} vs {want:?}"
+        );
+        if let (Some(g), Some(w)) = (got, want) {
+            assert!((g - w).abs() < 1e-5, "column {u}: {g} vs {w}");
         }
     }
 }

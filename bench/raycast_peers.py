@@ -1,0 +1,103 @@
+"""Ray-casting throughput of motorfactory's caster against Open3D's RaycastingScene (Embree) on
+the same mesh and rays, one after the other in one invocation.
+
+Workload: primary rays of a 1944 x 1200 pinhole camera (the Zivid 2 resolution) on a
+tessellated sphere-on-plane scene of about 200k and 2M triangles, returning distance, triangle id
+and normal, on 2 threads.
+
+Usage: python3 bench/raycast_peers.py [--threads 2] [--repeats 5] [--sizes 200000,2000000]
+Needs: pip install numpy open3d (and Debian's libusb-1.0-0); builds the Rust side itself.
+"""
+import argparse
+import json
+import os
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+
+def scene(triangles):
+    """A UV sphere of radius 0.25 m resting on a 1 x 1 m grid plane, ~`triangles` triangles."""
+    n = int(np.sqrt(triangles / 4))
+    th, ph = np.meshgrid(np.linspace(0, np.pi, n + 1), np.linspace(0, 2 * np.pi, n + 1), indexing="ij")
+    sphere = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], -1).reshape(-1, 3) * 0.25
+    sphere[:, 2] += 0.25
+    gx, gy = np.meshgrid(np.linspace(-0.5, 0.5, n + 1), np.linspace(-0.5, 0.5, n + 1), indexing="ij")
+    plane = np.stack([gx, gy, np.zeros_like(gx)], -1).reshape(-1, 3)
+
+    def grid(offset):
+        i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+        a = (i * (n + 1) + j).ravel() + offset
+        b, c, d = a + n + 1, a + n + 2, a + 1
+        return np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+
+    vertices = np.concatenate([sphere, plane]).astype(np.float32)
+    tris = np.concatenate([grid(0), grid(len(sphere))]).astype(np.uint32)
+    return vertices, tris
+
+
+def camera_rays(width=1944, height=1200, f=1500.0):
+    """Rays of a camera 1 m above the scene, looking down (+z towards the table)."""
+    u, v = np.meshgrid(np.arange(width, dtype=np.float32), np.arange(height, dtype=np.float32))
+    d = np.stack([(u - width / 2) / f, (v - height / 2) / f, -np.ones_like(u)], -1).reshape(-1, 3)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    o = np.tile(np.array([0.0, 0.0, 1.0], np.float32), (len(d), 1))
+    return np.concatenate([o, d], 1).astype(np.float32)
+
+
+def open3d_rate(vertices, tris, rays, threads, repeats):
+    import open3d as o3d
+
+    start = time.perf_counter()
+    rs = o3d.t.geometry.RaycastingScene(nthreads=threads)
+    rs.add_triangles(o3d.core.Tensor(vertices), o3d.core.Tensor(tris))
+    rays_t = o3d.core.Tensor(rays)
+    rs.cast_rays(rays_t[:1], nthreads=threads)  # builds the BVH
+    build = time.perf_counter() - start
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        ans = rs.cast_rays(rays_t, nthreads=threads)
+        t = ans["t_hit"].numpy()
+        ids = ans["primitive_ids"].numpy()
+        normals = ans["primitive_normals"].numpy()
+        times.append(time.perf_counter() - start)
+    times.sort()
+    return build, len(rays) / times[0] / 1e6, len(rays) / times[len(times) // 2] / 1e6, t, ids, normals
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("--threads", type=int, default=2)
+    p.add_argument("--repeats", type=int, default=5)
+    p.add_argument("--sizes", default="200000,2000000")
+    args = p.parse_args()
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "sensor", "--example", "raycast_peer"], cwd=root, check=True)
+    binary = os.path.join(root, "target", "release", "examples", "raycast_peer")
+    rays = camera_rays()
+    print(f"{len(rays)} primary rays, {args.threads} threads, best of {args.repeats}")
+    with tempfile.TemporaryDirectory() as tmp:
+        np.save(f"{tmp}/rays.npy", rays)
+        for size in [int(s) for s in args.sizes.split(",")]:
+            vertices, tris = scene(size)
+            np.save(f"{tmp}/v.npy", vertices)
+            np.save(f"{tmp}/t.npy", tris)
+            out = subprocess.run([binary, f"{tmp}/v.npy", f"{tmp}/t.npy", f"{tmp}/rays.npy", str(args.threads), str(args.repeats), f"{tmp}/hits.npy"],
+                                 check=True, capture_output=True, text=True).stdout
+            ours = json.loads(out)
+            hits = np.load(f"{tmp}/hits.npy")
+            build, best, median, t, ids, normals = open3d_rate(vertices, tris, rays, args.threads, args.repeats)
+            both = np.isfinite(t) & np.isfinite(hits[:, 0])
+            agree = np.mean(np.isfinite(t) == np.isfinite(hits[:, 0]))
+            t_err = np.max(np.abs(t[both] - hits[both, 0])) if both.any() else 0.0
+            n_dot = np.mean(np.abs(np.sum(normals[both] * hits[both, 2:5], 1)) > 0.999)
+            print(f"{len(tris) / 1e3:.0f}k triangles: motorfactory {ours['best_mrays']:.2f} Mrays/s (median {ours['median_mrays']:.2f}, build {ours['build_s']:.3f} s); "
+                  f"Open3D {best:.2f} Mrays/s (median {median:.2f}, build {build:.3f} s); ratio {ours['best_mrays'] / best:.2f}x; "
+                  f"hit/miss agreement {agree:.5f}, max |dt| {t_err:.2e} m, normals agree {n_dot:.4f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,88 @@
+//! Times the ray caster on a mesh and rays stored as .npy (the workload of
+//! `bench/raycast_peers.py`): `raycast_peer VERTICES.npy TRIANGLES.npy RAYS.npy THREADS REPEATS
+//! OUT.npy`. Prints build time and the best and median rates; writes the hits (t, triangle,
+//! normal) of the last run for comparison with the peer.
+
+use std::io::Write;
+
+use glam::Vec3;
+use rayon::prelude::*;
+use sensor::{Classes, Material, Scene, Target};
+
+fn read<T: npyz::Deserialize>(path: &str) -> (Vec<u64>, Vec<T>) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let npy = npyz::NpyFile::new(&bytes[..]).unwrap();
+    (npy.shape().to_vec(), npy.into_vec().unwrap())
+}
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let (threads, repeats): (usize, usize) = (a[4].parse().unwrap(), a[5].parse().unwrap());
+    let (_, v) = read::<f32>(&a[1]);
+    let (_, t) = read::<u32>(&a[2]);
+    let (_, r) = read::<f32>(&a[3]);
+    let target = Target {
+        positions: v.chunks_exact(3).map(Vec3::from_slice).collect(),
+        triangles: t.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        classes: Classes::Uniform(1),
+        instance: 1,
+        material: Material::default(),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let scene = pool.install(|| Scene::new(std::slice::from_ref(&target)));
+    let build = start.elapsed().as_secs_f64();
+    let rays: Vec<(Vec3, Vec3)> = r
+        .chunks_exact(6)
+        .map(|c| {
+            (
+                Vec3::from_slice(&c[..3]),
+                Vec3::from_slice(&c[3..]).normalize(),
+            )
+        })
+        .collect();
+    let mut out = vec![[f32::INFINITY, -1.0, 0.0, 0.0, 0.0]; rays.len()];
+    let mut times = Vec::new();
+    for _ in 0..repeats {
+        let start = std::time::Instant::now();
+        pool.install(|| {
+            out.par_chunks_mut(4096)
+                .zip(rays.par_chunks(4096))
+                .for_each(|(o, rs)| {
+                    for (slot, (origin, dir)) in o.iter_mut().zip(rs) {
+                        *slot = match scene.cast(*origin, *dir, f32::INFINITY) {
+                            Some(h) => [h.t, h.triangle as f32, h.normal.x, h.normal.y, h.normal.z],
+                            None => [f32::INFINITY, -1.0, 0.0, 0.0, 0.0],
+                        };
+                    }
+                })
+        });
+        times.push(start.elapsed().as_secs_f64());
+    }
+    times.sort_by(f64::total_cmp);
+    let rate = |s: f64| rays.len() as f64 / s / 1e6;
+    println!(
+        "{{\"build_s\": {build:.4}, \"best_mrays\": {:.3}, \"median_mrays\": {:.3}}}",
+        rate(times[0]),
+        rate(times[times.len() / 2])
+    );
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&a[6]).unwrap());
+    let header = format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({}, 5), }}",
+        out.len()
+    );
+    let pad = (10 + header.len() + 1).next_multiple_of(64) - 10 - header.len() - 1;
+    f.write_all(b"\x93NUMPY\x01\x00").unwrap();
+    f.write_all(&((header.len() + pad + 1) as u16).to_le_bytes())
+        .unwrap();
+    f.write_all(format!("{header}{}\n", " ".repeat(pad)).as_bytes())
+        .unwrap();
+    for row in &out {
+        for x in row {
+            f.write_all(&x.to_le_bytes()).unwrap();
+        }
+    }
+}
