@@ -1,27 +1,30 @@
-//! Primary-ray throughput of the BVH on tessellated spheres of about 200k and 2M triangles, seen
-//! by a 1944 x 1200 pinhole camera (the Zivid 2 resolution), on all threads.
+//! Ray-caster throughput and a full Zivid 2+ frame, on the scene of `bench/raycast_peers.py`: a
+//! tessellated sphere resting on a plane, about 200k and 2M triangles, seen from 1 m above by a
+//! 1944 x 1200 pinhole camera, on all threads. (`bench/raycast_peers.py` times Open3D on the
+//! same rays.)
 
 use std::hint::black_box;
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use glam::Vec3;
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
-use sensor::Bvh;
+use sensor::{look_at, scan, Bvh, Classes, Material, Scene, SensorSpec, Target};
 
-/// A UV sphere of radius 0.3 m at 1 m with about `2·n²` triangles.
-fn sphere(n: usize) -> Vec<[Vec3; 3]> {
-    let p = |i: usize, j: usize| {
-        let (th, ph) = (
-            std::f32::consts::PI * i as f32 / n as f32,
-            std::f32::consts::TAU * j as f32 / n as f32,
-        );
-        Vec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()) * 0.3 + Vec3::Z
+/// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about 4n² triangles.
+fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
+    let n = ((triangles / 4) as f64).sqrt() as usize;
+    let sphere = |i: usize, j: usize| {
+        let (th, ph) = (std::f64::consts::PI * i as f64 / n as f64, std::f64::consts::TAU * j as f64 / n as f64);
+        (glam::DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos() + 1.0) * 0.25).as_vec3()
     };
-    let mut t = Vec::with_capacity(2 * n * n);
-    for i in 0..n {
-        for j in 0..n {
-            t.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
-            t.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+    let plane = |i: usize, j: usize| Vec3::new(i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5, 0.0);
+    let mut t = Vec::with_capacity(4 * n * n);
+    for p in [&sphere as &dyn Fn(usize, usize) -> Vec3, &plane] {
+        for i in 0..n {
+            for j in 0..n {
+                t.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
+                t.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
+            }
         }
     }
     t
@@ -31,47 +34,49 @@ const W: usize = 1944;
 const H: usize = 1200;
 
 fn camera_rays() -> Vec<Vec3> {
-    let f = 1800.0;
-    (0..W * H)
-        .map(|k| {
-            Vec3::new(
-                ((k % W) as f32 - W as f32 / 2.0) / f,
-                ((k / W) as f32 - H as f32 / 2.0) / f,
-                1.0,
-            )
-            .normalize()
-        })
-        .collect()
+    let f = 1500.0;
+    (0..W * H).map(|k| Vec3::new(((k % W) as f32 - W as f32 / 2.0) / f, ((k / W) as f32 - H as f32 / 2.0) / f, -1.0).normalize()).collect()
 }
 
 fn raycast(c: &mut Criterion) {
     let rays = camera_rays();
+    let eye = Vec3::Z;
     let mut g = c.benchmark_group("raycast");
     g.sample_size(10);
-    g.throughput(Throughput::Elements(rays.len() as u64));
-    for n in [316, 1000] {
-        let tris = sphere(n);
+    for size in [200_000, 2_000_000] {
+        let tris = sphere_on_plane(size);
         let bvh = Bvh::build(&tris);
         let label = format!("{}k_triangles", tris.len() / 1000);
+        g.throughput(Throughput::Elements(rays.len() as u64));
         g.bench_function(format!("primary_{label}"), |b| {
-            b.iter(|| {
-                let hits: usize = rays
-                    .par_chunks(W)
-                    .map(|row| {
-                        row.iter()
-                            .filter(|d| bvh.cast(Vec3::ZERO, **d, 10.0).is_some())
-                            .count()
-                    })
-                    .sum();
-                black_box(hits)
-            })
+            b.iter(|| rays.par_chunks(4096).map(|rs| rs.iter().filter(|d| bvh.cast(eye, **d, 10.0).is_some()).count()).sum::<usize>())
         });
-        g.bench_function(format!("build_{label}"), |b| {
-            b.iter(|| black_box(Bvh::build(&tris).len()))
-        });
+        g.throughput(Throughput::Elements(tris.len() as u64));
+        g.bench_function(format!("build_{label}"), |b| b.iter(|| black_box(Bvh::build(&tris).len())));
     }
     g.finish();
 }
 
-criterion_group!(benches, raycast);
+/// A full Zivid 2+ M130 frame (2448 x 2048 camera rays, a projector ray per hit, every noise
+/// model of the preset, the organized scan in memory) of the 200k-triangle scene from 1.3 m.
+fn zivid_frame(c: &mut Criterion) {
+    let tris = sphere_on_plane(200_000);
+    let target = Target {
+        positions: tris.iter().flatten().copied().collect(),
+        triangles: (0..tris.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect(),
+        classes: Classes::Uniform(1),
+        instance: 1,
+        material: Material::default(),
+    };
+    let scene = Scene::new(&[target]);
+    let sensor = SensorSpec::preset("zivid-2plus-m130").unwrap();
+    let pose: Affine3A = look_at(Vec3::new(0.1, -0.2, 1.28), Vec3::new(0.0, 0.0, 0.1), Vec3::Y).unwrap();
+    let mut g = c.benchmark_group("scan");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("zivid_2plus_m130_frame_200k_triangles", |b| b.iter(|| black_box(scan(&scene, &sensor, &pose, 1).valid_count())));
+    g.finish();
+}
+
+criterion_group!(benches, raycast, zivid_frame);
 criterion_main!(benches);
