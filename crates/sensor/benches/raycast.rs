@@ -5,19 +5,24 @@
 
 use std::hint::black_box;
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
-use sensor::{look_at, scan, Bvh, Classes, Material, Scene, SensorSpec, Target};
+use sensor::{Bvh, Classes, Material, Scene, SensorSpec, Target, look_at, scan};
 
 /// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about 4n² triangles.
 fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
     let n = ((triangles / 4) as f64).sqrt() as usize;
     let sphere = |i: usize, j: usize| {
-        let (th, ph) = (std::f64::consts::PI * i as f64 / n as f64, std::f64::consts::TAU * j as f64 / n as f64);
-        (glam::DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos() + 1.0) * 0.25).as_vec3()
+        let (th, ph) = (
+            std::f64::consts::PI * i as f64 / n as f64,
+            std::f64::consts::TAU * j as f64 / n as f64,
+        );
+        (glam::DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos() + 1.0) * 0.25)
+            .as_vec3()
     };
-    let plane = |i: usize, j: usize| Vec3::new(i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5, 0.0);
+    let plane =
+        |i: usize, j: usize| Vec3::new(i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5, 0.0);
     let mut t = Vec::with_capacity(4 * n * n);
     for p in [&sphere as &dyn Fn(usize, usize) -> Vec3, &plane] {
         for i in 0..n {
@@ -35,7 +40,16 @@ const H: usize = 1200;
 
 fn camera_rays() -> Vec<Vec3> {
     let f = 1500.0;
-    (0..W * H).map(|k| Vec3::new(((k % W) as f32 - W as f32 / 2.0) / f, ((k / W) as f32 - H as f32 / 2.0) / f, -1.0).normalize()).collect()
+    (0..W * H)
+        .map(|k| {
+            Vec3::new(
+                ((k % W) as f32 - W as f32 / 2.0) / f,
+                ((k / W) as f32 - H as f32 / 2.0) / f,
+                -1.0,
+            )
+            .normalize()
+        })
+        .collect()
 }
 
 fn raycast(c: &mut Criterion) {
@@ -49,10 +63,20 @@ fn raycast(c: &mut Criterion) {
         let label = format!("{}k_triangles", tris.len() / 1000);
         g.throughput(Throughput::Elements(rays.len() as u64));
         g.bench_function(format!("primary_{label}"), |b| {
-            b.iter(|| rays.par_chunks(4096).map(|rs| rs.iter().filter(|d| bvh.cast(eye, **d, 10.0).is_some()).count()).sum::<usize>())
+            b.iter(|| {
+                rays.par_chunks(4096)
+                    .map(|rs| {
+                        rs.iter()
+                            .filter(|d| bvh.cast(eye, **d, 10.0).is_some())
+                            .count()
+                    })
+                    .sum::<usize>()
+            })
         });
         g.throughput(Throughput::Elements(tris.len() as u64));
-        g.bench_function(format!("build_{label}"), |b| b.iter(|| black_box(Bvh::build(&tris).len())));
+        g.bench_function(format!("build_{label}"), |b| {
+            b.iter(|| black_box(Bvh::build(&tris).len()))
+        });
     }
     g.finish();
 }
@@ -63,18 +87,27 @@ fn zivid_frame(c: &mut Criterion) {
     let tris = sphere_on_plane(200_000);
     let target = Target {
         positions: tris.iter().flatten().copied().collect(),
-        triangles: (0..tris.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect(),
+        triangles: (0..tris.len() as u32)
+            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+            .collect(),
         classes: Classes::Uniform(1),
         instance: 1,
         material: Material::default(),
     };
     let scene = Scene::new(&[target]);
     let sensor = SensorSpec::preset("zivid-2plus-m130").unwrap();
-    let pose: Affine3A = look_at(Vec3::new(0.1, -0.2, 1.28), Vec3::new(0.0, 0.0, 0.1), Vec3::Y).unwrap();
+    let pose: Affine3A = look_at(
+        Vec3::new(0.1, -0.2, 1.28),
+        Vec3::new(0.0, 0.0, 0.1),
+        Vec3::Y,
+    )
+    .unwrap();
     let mut g = c.benchmark_group("scan");
     g.sample_size(10);
     g.throughput(Throughput::Elements(1));
-    g.bench_function("zivid_2plus_m130_frame_200k_triangles", |b| b.iter(|| black_box(scan(&scene, &sensor, &pose, 1).valid_count())));
+    g.bench_function("zivid_2plus_m130_frame_200k_triangles", |b| {
+        b.iter(|| black_box(scan(&scene, &sensor, &pose, 1).valid_count()))
+    });
     g.finish();
 }
 

@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use crate::noise::{PixelRng, stream};
 use crate::scene::{Scene, SurfaceHit};
-use crate::sensor::{Model, SensorSpec};
+use crate::sensor::{Frustum, Model, SensorSpec};
 
 /// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -77,13 +77,21 @@ pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
             b.offset_sigma * rng.normal(stream::BIAS + 2),
         )
     };
+    let setup = Setup {
+        scene,
+        sensor,
+        frustum: sensor.projector().map(|p| p.frustum()),
+        pose: *pose,
+        seed,
+        bias,
+    };
     let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
     pixels
         .par_chunks_mut(width)
         .enumerate()
         .for_each(|(row, out)| {
             for (col, px) in out.iter_mut().enumerate() {
-                *px = sample(scene, sensor, pose, seed, bias, col, row);
+                *px = sample(&setup, col, row);
             }
         });
     let mut scan = Scan {
@@ -108,16 +116,28 @@ pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
     scan
 }
 
-/// Measures one pixel.
-fn sample(
-    scene: &Scene,
-    sensor: &SensorSpec,
-    pose: &Affine3A,
+/// What every pixel of one scan shares.
+struct Setup<'a> {
+    scene: &'a Scene,
+    sensor: &'a SensorSpec,
+    /// The projector's frustum, for sensors that have one.
+    frustum: Option<Frustum>,
+    pose: Affine3A,
     seed: u64,
+    /// Per-scan range scale and offset.
     bias: (f32, f32),
-    col: usize,
-    row: usize,
-) -> Pixel {
+}
+
+/// Measures one pixel.
+fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
+    let Setup {
+        scene,
+        sensor,
+        frustum,
+        pose,
+        seed,
+        bias,
+    } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
     let rng = PixelRng::new(seed, (row * k.width as usize + col) as u64);
@@ -160,9 +180,9 @@ fn sample(
     label(&mut measured, &hit, dir);
 
     // illumination: the projector, or the camera itself
-    let (light_dir, light_range) = match sensor.projector() {
-        Some(projector) => {
-            if !projector.lights(point) {
+    let (light_dir, light_range) = match (sensor.projector(), frustum) {
+        (Some(projector), Some(frustum)) => {
+            if !frustum.lights(point) {
                 return px;
             }
             let to_light = projector.centre() - point;
@@ -178,7 +198,7 @@ fn sample(
             }
             (l, range)
         }
-        None => (-dir, hit.t),
+        _ => (-dir, hit.t),
     };
     let cos_light = measured.normal.dot(light_dir).max(0.0);
     let signal =

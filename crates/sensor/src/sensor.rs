@@ -28,16 +28,37 @@ impl Projector {
         Vec3::new(self.baseline, 0.0, 0.0)
     }
 
-    /// Whether a camera-frame point lies inside the projector's frustum.
-    pub fn lights(&self, p: Vec3) -> bool {
+    /// The projector's frustum, for testing many points.
+    pub fn frustum(&self) -> Frustum {
         let toe = (self.baseline / self.convergence).atan();
         let (s, c) = toe.sin_cos();
-        let (x_axis, z_axis) = (Vec3::new(c, 0.0, s), Vec3::new(-s, 0.0, c));
-        let q = p - self.centre();
-        let z = q.dot(z_axis);
-        z > 0.0
-            && (q.dot(x_axis) / z).abs() <= (self.hfov_deg.to_radians() / 2.0).tan()
-            && (q.y / z).abs() <= (self.vfov_deg.to_radians() / 2.0).tan()
+        Frustum {
+            centre: self.centre(),
+            x_axis: Vec3::new(c, 0.0, s),
+            z_axis: Vec3::new(-s, 0.0, c),
+            tan_x: (self.hfov_deg.to_radians() / 2.0).tan(),
+            tan_y: (self.vfov_deg.to_radians() / 2.0).tan(),
+        }
+    }
+}
+
+/// A projector's field of light, in the camera frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frustum {
+    centre: Vec3,
+    x_axis: Vec3,
+    z_axis: Vec3,
+    tan_x: f32,
+    tan_y: f32,
+}
+
+impl Frustum {
+    /// Whether a camera-frame point lies inside.
+    #[inline]
+    pub fn lights(&self, p: Vec3) -> bool {
+        let q = p - self.centre;
+        let z = q.dot(self.z_axis);
+        z > 0.0 && q.dot(self.x_axis).abs() <= self.tan_x * z && q.y.abs() <= self.tan_y * z
     }
 }
 
