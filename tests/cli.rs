@@ -493,3 +493,27 @@ fn readme_sensor_example_is_a_valid_sensor() {
     assert_eq!(spec.noise.axial.per_metre, 1.5e-4);
     assert!(matches!(spec.model, sensor::Model::StructuredLight { .. }));
 }
+
+#[test]
+fn scan_files_are_identical_for_one_and_two_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = dir.path().join("m");
+    assert!(run(&["motor", "--format", "ply", "--detail", "coarse", "--whole-only", "--out", m.to_str().unwrap()]).status.success());
+    let scan_with = |threads: &str| {
+        let out = dir.path().join(format!("s{threads}"));
+        let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+            .env("RAYON_NUM_THREADS", threads)
+            .args([
+                "scan", "--mesh", m.join("motor.ply").to_str().unwrap(), "--sensor", "zivid-2plus-m130", "--binning", "4",
+                "--look-at", "0.05,-1.2,0.6,0,0,0.09", "--format", "ply,pcd,npz", "--images", "--seed", "11",
+                "--out", out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr(&o));
+        tree(&out)
+    };
+    let (one, two) = (scan_with("1"), scan_with("2"));
+    assert_eq!(one.len(), 11); // 3 clouds, 7 images, scan.json
+    assert!(one == two, "scan files differ between 1 and 2 threads");
+}
