@@ -16,6 +16,16 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Each command exits 2 with a message containing its text, and `out` is never created.
+fn assert_refused(cases: &[(Vec<&str>, &str)], out: &Path) {
+    for (args, message) in cases {
+        let o = run(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
+        assert!(!out.exists(), "{args:?} wrote output");
+    }
+}
+
 /// Every file below `dir`, by relative path.
 fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     let mut out = BTreeMap::new();
@@ -153,12 +163,7 @@ fn bad_input_exits_2_and_writes_nothing() {
             "/no/such/file.toml",
         ),
     ];
-    for (args, message) in cases {
-        let o = run(&args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
-        assert!(!out.exists(), "{args:?} wrote output");
-    }
+    assert_refused(&cases, &out);
     // an output path that cannot be a folder
     let file = dir.path().join("file");
     std::fs::write(&file, "x").unwrap();
@@ -238,28 +243,32 @@ fn scan_of_a_motor_keeps_its_labels() {
         .status
         .success()
     );
-    let out = dir.path().join("s");
-    let o = run(&[
-        "scan",
-        "--mesh",
-        m.join("motor.ply").to_str().unwrap(),
-        "--mesh",
-        m.join("cover_bolt_1.stl").to_str().unwrap(),
-        "--sensor",
-        "zivid-2plus-m130",
-        "--binning",
-        "4",
-        "--look-at",
-        "0.05,-1.2,0.6,0,0,0.09",
-        "--format",
-        "ply,pcd,pcd-ascii,npy,npz",
-        "--images",
-        "--seed",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    let scan_to = |name: &str| {
+        let out = dir.path().join(name);
+        let o = run(&[
+            "scan",
+            "--mesh",
+            m.join("motor.ply").to_str().unwrap(),
+            "--mesh",
+            m.join("cover_bolt_1.stl").to_str().unwrap(),
+            "--sensor",
+            "zivid-2plus-m130",
+            "--binning",
+            "4",
+            "--look-at",
+            "0.05,-1.2,0.6,0,0,0.09",
+            "--format",
+            "ply,pcd,pcd-ascii,npy,npz",
+            "--images",
+            "--seed",
+            "3",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        out
+    };
+    let out = scan_to("s");
     let files = tree(&out);
     for f in [
         "cloud.ply",
@@ -293,28 +302,7 @@ fn scan_of_a_motor_keeps_its_labels() {
         "{labels:?}"
     );
     // the same seed gives the same bytes
-    let again = dir.path().join("s2");
-    let o = run(&[
-        "scan",
-        "--mesh",
-        m.join("motor.ply").to_str().unwrap(),
-        "--mesh",
-        m.join("cover_bolt_1.stl").to_str().unwrap(),
-        "--sensor",
-        "zivid-2plus-m130",
-        "--binning",
-        "4",
-        "--look-at",
-        "0.05,-1.2,0.6,0,0,0.09",
-        "--format",
-        "ply,pcd,pcd-ascii,npy,npz",
-        "--images",
-        "--seed",
-        "3",
-        "--out",
-        again.to_str().unwrap(),
-    ]);
-    assert!(o.status.success());
+    let again = scan_to("s2");
     assert!(tree(&again) == files);
 }
 
@@ -465,12 +453,7 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
             "--binning 3",
         ),
     ];
-    for (args, message) in cases {
-        let o = run(&args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
-        assert!(!out.exists(), "{args:?} wrote output");
-    }
+    assert_refused(&cases, &out);
 }
 
 #[test]
@@ -498,15 +481,41 @@ fn readme_sensor_example_is_a_valid_sensor() {
 fn scan_files_are_identical_for_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
     let m = dir.path().join("m");
-    assert!(run(&["motor", "--format", "ply", "--detail", "coarse", "--whole-only", "--out", m.to_str().unwrap()]).status.success());
+    assert!(
+        run(&[
+            "motor",
+            "--format",
+            "ply",
+            "--detail",
+            "coarse",
+            "--whole-only",
+            "--out",
+            m.to_str().unwrap()
+        ])
+        .status
+        .success()
+    );
     let scan_with = |threads: &str| {
         let out = dir.path().join(format!("s{threads}"));
         let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
             .env("RAYON_NUM_THREADS", threads)
             .args([
-                "scan", "--mesh", m.join("motor.ply").to_str().unwrap(), "--sensor", "zivid-2plus-m130", "--binning", "4",
-                "--look-at", "0.05,-1.2,0.6,0,0,0.09", "--format", "ply,pcd,npz", "--images", "--seed", "11",
-                "--out", out.to_str().unwrap(),
+                "scan",
+                "--mesh",
+                m.join("motor.ply").to_str().unwrap(),
+                "--sensor",
+                "zivid-2plus-m130",
+                "--binning",
+                "4",
+                "--look-at",
+                "0.05,-1.2,0.6,0,0,0.09",
+                "--format",
+                "ply,pcd,npz",
+                "--images",
+                "--seed",
+                "11",
+                "--out",
+                out.to_str().unwrap(),
             ])
             .output()
             .unwrap();
