@@ -108,14 +108,6 @@ impl PartKind {
         }
     }
 
-    /// Whether the part sits inside the motor (hidden while the cover is on).
-    pub fn is_inner(self) -> bool {
-        matches!(
-            self.class(),
-            PartClass::Magnet | PartClass::Armature | PartClass::InnerGear
-        )
-    }
-
     /// The add-on's material for this part (its `Materia_Tables`).
     pub fn material(self) -> &'static Material {
         let name = match self {

@@ -233,3 +233,31 @@ fn attributes_json_and_csv_hold_the_ground_truth() {
     assert_eq!(cell("gear2_z").parse::<f32>().unwrap(), c.z);
     assert_eq!(cell("bolt5_x"), "");
 }
+
+#[test]
+fn label_schemes_cover_every_part_kind() {
+    use motorgen::PartKind;
+    for (i, kind) in PartKind::ALL.iter().enumerate() {
+        // the PLY's part_class byte and the scheme tables index kinds in this order
+        assert_eq!(*kind as usize, i);
+        for scheme in Scheme::ALL {
+            let id = scheme.id(*kind);
+            assert!(
+                scheme.classes().iter().any(|c| c.id == id),
+                "{scheme:?} has no class {id} for {kind:?}"
+            );
+            assert_ne!(id, 0, "{kind:?} must not be background");
+        }
+    }
+    // the schemes as the original datasets define them
+    assert_eq!(Scheme::SynMotor.id(PartKind::SideBolt), 5);
+    assert_eq!(Scheme::SynMotor.id(PartKind::CoverBolt), 6);
+    assert_eq!(
+        Scheme::Wacv.id(PartKind::SideBolt),
+        Scheme::Wacv.id(PartKind::CoverBolt)
+    );
+    assert_eq!(Scheme::InnerParts.id(PartKind::SingleGear), 9);
+    assert_eq!(Scheme::SynMotor.classes().len(), 7);
+    assert_eq!(Scheme::Wacv.classes().len(), 6);
+    assert_eq!(Scheme::InnerParts.classes().len(), 10);
+}

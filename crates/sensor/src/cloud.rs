@@ -64,21 +64,6 @@ impl PointCloud {
     pub fn is_empty(&self) -> bool {
         self.xyz.is_empty()
     }
-
-    /// The points for which `keep` holds (on position and class), e.g. a crop.
-    pub fn filtered(&self, keep: impl Fn(Vec3, u16) -> bool) -> PointCloud {
-        let mut out = PointCloud::default();
-        for i in 0..self.len() {
-            if keep(self.xyz[i], self.class[i]) {
-                out.xyz.push(self.xyz[i]);
-                out.normal.push(self.normal[i]);
-                out.intensity.push(self.intensity[i]);
-                out.class.push(self.class[i]);
-                out.instance.push(self.instance[i]);
-            }
-        }
-        out
-    }
 }
 
 impl Scan {

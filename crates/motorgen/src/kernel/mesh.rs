@@ -110,16 +110,6 @@ impl Mesh {
             / 6.0
     }
 
-    /// Total surface area.
-    pub fn area(&self) -> f64 {
-        self.triangles.iter().map(|t| self.triangle_area(t)).sum()
-    }
-
-    fn triangle_area(&self, t: &[u32; 3]) -> f64 {
-        let [a, b, c] = t.map(|i| self.positions[i as usize].as_dvec3());
-        0.5 * (b - a).cross(c - a).length()
-    }
-
     /// Flips a single closed shell so that it encloses positive volume.
     pub(crate) fn orient_outward(mut self) -> Mesh {
         if self.signed_volume() < 0.0 {

@@ -262,15 +262,4 @@ impl Motor {
         }
         m
     }
-
-    /// All parts in one mesh, with the part index of every triangle.
-    pub fn merged(&self) -> (Mesh, Vec<usize>) {
-        let mut mesh = Mesh::default();
-        let mut owner = Vec::new();
-        for (i, p) in self.parts.iter().enumerate() {
-            mesh.append(&p.mesh);
-            owner.extend(std::iter::repeat_n(i, p.mesh.triangle_count()));
-        }
-        (mesh, owner)
-    }
 }
