@@ -142,6 +142,12 @@ fn read_ply(path: &Path) -> Result<Vec<Target>, String> {
             Some(Property::ListUShort(l)) => l.iter().map(|&i| i as u32).collect(),
             _ => return Err("faces without vertex_indices".into()),
         };
+        if let Some(bad) = list.iter().find(|&&i| i as usize >= positions.len()) {
+            return Err(format!(
+                "a face uses vertex {bad}, but there are {} vertices",
+                positions.len()
+            ));
+        }
         let class = face.get("class").and_then(num).map_or(1, |c| c as u16);
         let inst = face.get("instance").and_then(num).map_or(1, |i| i as u32);
         let group = groups.entry(inst).or_default();
@@ -150,15 +156,26 @@ fn read_ply(path: &Path) -> Result<Vec<Target>, String> {
             group.1.push(class);
         }
     }
+    // each instance keeps only the vertices its triangles use
     Ok(groups
         .into_iter()
         .map(|(inst, (triangles, classes))| {
-            target(
-                positions.clone(),
-                triangles,
-                Classes::PerTriangle(classes),
-                inst,
-            )
+            let mut remap = vec![u32::MAX; positions.len()];
+            let mut used = Vec::new();
+            let triangles = triangles
+                .into_iter()
+                .map(|t| {
+                    t.map(|i| {
+                        let slot = &mut remap[i as usize];
+                        if *slot == u32::MAX {
+                            *slot = used.len() as u32;
+                            used.push(positions[i as usize]);
+                        }
+                        *slot
+                    })
+                })
+                .collect();
+            target(used, triangles, Classes::PerTriangle(classes), inst)
         })
         .collect())
 }

@@ -315,6 +315,8 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
     std::fs::write(&empty, "# nothing\n").unwrap();
     let garbage = dir.path().join("garbage.stl");
     std::fs::write(&garbage, "not an stl").unwrap();
+    let bad_index = dir.path().join("bad_index.ply");
+    std::fs::write(&bad_index, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n").unwrap();
     let cube = dir.path().join("cube.obj");
     std::fs::write(&cube, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let bad_sensor = dir.path().join("bad.toml");
@@ -324,6 +326,18 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
     let cube_s = cube.to_str().unwrap();
     let la = "0,0,-2,0,0,0";
     let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![
+                "scan",
+                "--mesh",
+                bad_index.to_str().unwrap(),
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "a face uses vertex 7, but there are 3 vertices",
+        ),
         (
             vec![
                 "scan",
