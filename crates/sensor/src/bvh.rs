@@ -260,6 +260,7 @@ impl Bvh {
                 far = far.min((b - o[axis]) * i[axis] * widen);
             }
             let mut mask = near.cmple(far).bitmask();
+            let near = near.to_array(); // array lanes: glam's Vec4 indexing is a branchy match
             // the entered children, nearest first; leaves are tested on the spot
             let mut entered = [(0u32, 0.0f32); 4];
             let mut count = 0;
@@ -381,10 +382,11 @@ impl ShearedRay {
     fn new(origin: Vec3, dir: Vec3) -> ShearedRay {
         let kz = dir.abs().max_position();
         let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
-        if dir[kz] < 0.0 {
+        let d = dir.to_array();
+        if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let shear = Vec3::new(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+        let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
         ShearedRay {
             origin,
             axes: [kx, ky, kz],
@@ -398,7 +400,8 @@ impl ShearedRay {
     fn intersect(&self, tri: &Tri, t_max: f32) -> Option<(f32, f32, f32)> {
         let [kx, ky, kz] = self.axes;
         let s = self.shear;
-        let [a, b, c] = tri.map(|v| v - self.origin);
+        // arrays, not Vec3: glam's Vec3 indexing is a branchy match
+        let [a, b, c] = tri.map(|v| (v - self.origin).to_array());
         let (ax, ay) = (a[kx] - s.x * a[kz], a[ky] - s.y * a[kz]);
         let (bx, by) = (b[kx] - s.x * b[kz], b[ky] - s.y * b[kz]);
         let (cx, cy) = (c[kx] - s.x * c[kz], c[ky] - s.y * c[kz]);
