@@ -1,8 +1,10 @@
 //! motorfactory: synthetic, labelled 3D training data of small electric gear motors.
 
 mod error;
+mod generate;
 mod meshio;
 mod motors;
+mod preview;
 mod progress;
 mod scan;
 
@@ -26,6 +28,12 @@ enum Command {
     Params,
     /// Scan meshes with a simulated depth sensor.
     Scan(scan::ScanCmd),
+    /// Generate a labelled point-cloud dataset from a TOML configuration.
+    Generate(generate::GenerateCmd),
+    /// Print or list the built-in dataset configurations.
+    Config(generate::ConfigCmd),
+    /// Draw a sample, or a contact sheet of a dataset, coloured by class.
+    Preview(preview::PreviewCmd),
 }
 
 fn main() {
@@ -35,6 +43,9 @@ fn main() {
         Command::Motors(cmd) => cmd.run(),
         Command::Params => motors::print_params(),
         Command::Scan(cmd) => cmd.run(),
+        Command::Generate(cmd) => cmd.run(),
+        Command::Config(cmd) => cmd.run(),
+        Command::Preview(cmd) => cmd.run(),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

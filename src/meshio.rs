@@ -96,32 +96,34 @@ fn target(
     }
 }
 
+/// A numeric PLY property as f64.
+pub fn number(p: &Property) -> Option<f64> {
+    Some(match *p {
+        Property::Float(x) => x as f64,
+        Property::Double(x) => x,
+        Property::Char(x) => x as f64,
+        Property::UChar(x) => x as f64,
+        Property::Short(x) => x as f64,
+        Property::UShort(x) => x as f64,
+        Property::Int(x) => x as f64,
+        Property::UInt(x) => x as f64,
+        _ => return None,
+    })
+}
+
 /// A PLY mesh; with per-face `instance`, one target per instance.
 fn read_ply(path: &Path) -> Result<Vec<Target>, String> {
     let mut f = std::io::BufReader::new(std::fs::File::open(path).map_err(|e| e.to_string())?);
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut f)
         .map_err(|e| e.to_string())?;
-    let num = |p: &Property| -> Option<f64> {
-        Some(match *p {
-            Property::Float(x) => x as f64,
-            Property::Double(x) => x,
-            Property::Char(x) => x as f64,
-            Property::UChar(x) => x as f64,
-            Property::Short(x) => x as f64,
-            Property::UShort(x) => x as f64,
-            Property::Int(x) => x as f64,
-            Property::UInt(x) => x as f64,
-            _ => return None,
-        })
-    };
     let vertices = ply.payload.get("vertex").ok_or("no vertex element")?;
     let positions: Vec<Vec3> = vertices
         .iter()
         .map(|v| {
             let c = |k: &str| {
                 v.get(k)
-                    .and_then(num)
+                    .and_then(number)
                     .map(|x| x as f32)
                     .ok_or(format!("vertex without {k}"))
             };
@@ -148,8 +150,11 @@ fn read_ply(path: &Path) -> Result<Vec<Target>, String> {
                 positions.len()
             ));
         }
-        let class = face.get("class").and_then(num).map_or(1, |c| c as u16);
-        let inst = face.get("instance").and_then(num).map_or(1, |i| i as u32);
+        let class = face.get("class").and_then(number).map_or(1, |c| c as u16);
+        let inst = face
+            .get("instance")
+            .and_then(number)
+            .map_or(1, |i| i as u32);
         let group = groups.entry(inst).or_default();
         for k in 1..list.len().saturating_sub(1) {
             group.0.push([list[0], list[k], list[k + 1]]);

@@ -13,9 +13,6 @@ use sensor::{Frame, Scene, SensorSpec, Units, look_at, scan};
 use crate::error::{CliError, CliResult};
 use crate::meshio::read_targets;
 
-/// Cloud formats of `scan`.
-const CLOUD_FORMATS: [&str; 5] = ["ply", "pcd", "pcd-ascii", "npy", "npz"];
-
 /// Scan meshes with a simulated depth sensor and write the cloud and images.
 #[derive(Debug, Args)]
 pub struct ScanCmd {
@@ -134,9 +131,11 @@ impl ScanCmd {
             &self.units,
             &[("m", Units::Metres), ("mm", Units::Millimetres)],
         )?;
-        for f in &self.format {
-            choice("format", f, &CLOUD_FORMATS.map(|n| (n, ())))?;
-        }
+        let formats = self
+            .format
+            .iter()
+            .map(|f| choice("format", f, &CloudFormat::ALL.map(|c| (c.name(), c))))
+            .collect::<CliResult<Vec<_>>>()?;
         let mut targets = Vec::new();
         for path in &self.meshes {
             let offset = targets
@@ -164,28 +163,13 @@ impl ScanCmd {
         let save = |name: &str, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| {
             write_atomic(&self.out.join(name), body).map_err(|e| CliError::Runtime(e.to_string()))
         };
-        for f in &self.format {
-            match f.as_str() {
-                "ply" => save("cloud.ply", &|w| write_ply(w, &cloud))?,
-                "pcd" => save("cloud.pcd", &|w| write_pcd(w, &cloud, true))?,
-                "pcd-ascii" => save("cloud_ascii.pcd", &|w| write_pcd(w, &cloud, false))?,
-                "npy" => save("cloud.npy", &|w| write_npy_synmotor(w, &cloud, &palette))?,
-                _ => save("cloud.npz", &|w| write_npz(w, &cloud))?,
-            }
+        for f in &formats {
+            save(&f.file_name("cloud"), &|w| f.write(w, &cloud, &palette))?;
         }
         if self.images {
-            let (w, h) = (result.width as usize, result.height as usize);
-            save("depth.png", &|o| write_depth_png(o, &result, false))?;
-            save("depth.npy", &|o| {
-                write_depth_npy(o, w, h, result.pixels.iter().map(|p| p.point.z))
-            })?;
-            save("depth_clean.npy", &|o| {
-                write_depth_npy(o, w, h, result.pixels.iter().map(|p| p.clean.z))
-            })?;
-            save("normals.png", &|o| write_normal_png(o, &result))?;
-            save("labels.png", &|o| write_label_png(o, &result, false))?;
-            save("instances.png", &|o| write_label_png(o, &result, true))?;
-            save("intensity.png", &|o| write_intensity_png(o, &result))?;
+            for (name, image) in IMAGES {
+                save(name, &|w| image(w, &result))?;
+            }
         }
         let summary = serde_json::json!({
             "sensor": spec,

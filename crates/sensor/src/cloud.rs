@@ -29,6 +29,17 @@ pub enum Units {
     Millimetres,
 }
 
+impl Frame {
+    /// The transform from the camera frame of a scan at camera-to-world `pose` into this frame.
+    pub fn from_camera(self, pose: &Affine3A) -> Affine3A {
+        match self {
+            Frame::Camera => Affine3A::IDENTITY,
+            Frame::World => *pose,
+            Frame::Blensor => Affine3A::from_scale(Vec3::new(1.0, -1.0, -1.0)),
+        }
+    }
+}
+
 impl Units {
     /// Metres to this unit.
     pub fn scale(self) -> f32 {
@@ -64,30 +75,38 @@ impl PointCloud {
     pub fn is_empty(&self) -> bool {
         self.xyz.is_empty()
     }
+
+    /// Appends one point.
+    pub fn push(&mut self, xyz: Vec3, normal: Vec3, intensity: f32, class: u16, instance: u32) {
+        self.xyz.push(xyz);
+        self.normal.push(normal);
+        self.intensity.push(intensity);
+        self.class.push(class);
+        self.instance.push(instance);
+    }
+
+    /// The cloud moved by `transform` (points and normals) with points scaled to `units`.
+    pub fn transformed(mut self, transform: &Affine3A, units: Units) -> PointCloud {
+        let scale = units.scale();
+        for (p, n) in self.xyz.iter_mut().zip(&mut self.normal) {
+            *p = transform.transform_point3(*p) * scale;
+            *n = transform.transform_vector3(*n);
+        }
+        self
+    }
 }
 
 impl Scan {
     /// The valid points of the scan (`clean`: the exact points instead of the measured ones), in
     /// `frame` and `units`, in pixel order.
     pub fn cloud(&self, clean: bool, frame: Frame, units: Units) -> PointCloud {
-        let to_frame = match frame {
-            Frame::Camera => Affine3A::IDENTITY,
-            Frame::World => self.pose,
-            Frame::Blensor => Affine3A::from_scale(Vec3::new(1.0, -1.0, -1.0)),
-        };
-        let scale = units.scale();
         let mut out = PointCloud::default();
         for p in &self.pixels {
             let point = if clean { p.clean } else { p.point };
-            if point.x.is_nan() {
-                continue;
+            if !point.x.is_nan() {
+                out.push(point, p.normal, p.intensity, p.class, p.instance);
             }
-            out.xyz.push(to_frame.transform_point3(point) * scale);
-            out.normal.push(to_frame.transform_vector3(p.normal));
-            out.intensity.push(p.intensity);
-            out.class.push(p.class);
-            out.instance.push(p.instance);
         }
-        out
+        out.transformed(&frame.from_camera(&self.pose), units)
     }
 }

@@ -219,3 +219,46 @@ pub struct Bias {
     /// σ of the relative scale error.
     pub scale_sigma: f32,
 }
+
+impl Noise {
+    /// Checks that every setting is finite, non-negative, and a probability where it is one.
+    pub fn validate(&self) -> Result<(), crate::Error> {
+        let amounts = [
+            ("axial.sigma", self.axial.sigma),
+            ("axial.per_metre", self.axial.per_metre),
+            ("axial.per_metre2", self.axial.per_metre2),
+            ("incidence.gain", self.incidence.gain),
+            ("lateral_px", self.lateral_px),
+            ("quantization", self.quantization),
+            ("dropout.signal_threshold", self.dropout.signal_threshold),
+            ("dropout.softness", self.dropout.softness),
+            ("edges.jump", self.edges.jump),
+            ("bias.offset_sigma", self.bias.offset_sigma),
+            ("bias.scale_sigma", self.bias.scale_sigma),
+        ];
+        let shares = [
+            ("dropout.rate", self.dropout.rate),
+            ("specular.probability", self.specular.probability),
+            ("edges.probability", self.edges.probability),
+        ];
+        let bad = |key: &str, value: f32, allowed: &str| crate::Error::Invalid {
+            key: format!("noise.{key}"),
+            value: value.to_string(),
+            allowed: allowed.into(),
+        };
+        if let Some((k, v)) = amounts.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
+            return Err(bad(k, *v, "a finite number >= 0"));
+        }
+        if let Some((k, v)) = shares.iter().find(|(_, v)| !(0.0..=1.0).contains(v)) {
+            return Err(bad(k, *v, "a probability from 0 to 1"));
+        }
+        if !(self.incidence.max_factor >= 1.0 && self.incidence.max_factor.is_finite()) {
+            return Err(bad(
+                "incidence.max_factor",
+                self.incidence.max_factor,
+                "a finite number >= 1",
+            ));
+        }
+        Ok(())
+    }
+}

@@ -64,9 +64,54 @@ impl Scan {
     }
 }
 
+/// An axis-aligned box in world coordinates that limits which pixels a scan casts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    /// Smallest corner, m.
+    pub min: Vec3,
+    /// Largest corner, m.
+    pub max: Vec3,
+}
+
+impl Region {
+    /// Whether the ray from `origin` along `dir` passes through the box (slab test).
+    pub fn crossed_by(&self, origin: Vec3, dir: Vec3) -> bool {
+        let inv = dir.recip();
+        let a = (self.min - origin) * inv;
+        let b = (self.max - origin) * inv;
+        let near = a.min(b).max_element().max(0.0);
+        let far = a.max(b).min_element();
+        near <= far
+    }
+}
+
 /// Scans `scene` with `sensor` from the camera-to-world `pose`. Every random draw is keyed by
 /// (seed, pixel), so the result is the same for any number of threads.
 pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> Scan {
+    scan_pixels(scene, sensor, pose, seed, None)
+}
+
+/// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast. A
+/// point can only lie in a box its ray crosses, so cropping to `region` gives what a full scan
+/// would; neighbour effects (mixed pixels, the Kinect window) and lateral jitter reach about a
+/// pixel's footprint beyond it, so callers crop to a box a little smaller than `region`.
+pub fn scan_within(
+    scene: &Scene,
+    sensor: &SensorSpec,
+    pose: &Affine3A,
+    seed: u64,
+    region: &Region,
+) -> Scan {
+    scan_pixels(scene, sensor, pose, seed, Some(region))
+}
+
+fn scan_pixels(
+    scene: &Scene,
+    sensor: &SensorSpec,
+    pose: &Affine3A,
+    seed: u64,
+    region: Option<&Region>,
+) -> Scan {
     let k = &sensor.intrinsics;
     let width = k.width as usize;
     let bias = {
@@ -84,6 +129,7 @@ pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
         pose: *pose,
         seed,
         bias,
+        region,
     };
     let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
     pixels
@@ -126,6 +172,8 @@ struct Setup<'a> {
     seed: u64,
     /// Per-scan range scale and offset.
     bias: (f32, f32),
+    /// Pixels whose rays miss this box are not cast.
+    region: Option<&'a Region>,
 }
 
 /// Measures one pixel.
@@ -137,6 +185,7 @@ fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
         pose,
         seed,
         bias,
+        region,
     } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
@@ -146,6 +195,9 @@ fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
     let to_camera = |d: Vec3| pose.matrix3.transpose() * glam::Vec3A::from(d);
 
     let centre = k.ray(col as f64, row as f64);
+    if region.is_some_and(|r| !r.crossed_by(origin, to_world(centre))) {
+        return Pixel::EMPTY;
+    }
     let mut px = Pixel::EMPTY;
     let clean = scene.cast(origin, to_world(centre), sensor.max_range);
     let label = |px: &mut Pixel, h: &SurfaceHit, dir: Vec3| {

@@ -316,6 +316,7 @@ impl SensorSpec {
     /// Checks the camera and the ranges.
     pub fn validate(&self) -> Result<(), Error> {
         self.intrinsics.validate()?;
+        self.noise.validate()?;
         if !(self.min_range >= 0.0 && self.min_range < self.max_range && self.max_range.is_finite())
         {
             return Err(Error::Invalid {

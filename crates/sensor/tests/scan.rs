@@ -601,3 +601,41 @@ fn mixed_pixels_fly_between_the_two_depths_at_edges_only() {
     }
     assert!(flying >= 2 * 50 - 4, "{flying}");
 }
+
+#[test]
+fn region_scan_keeps_every_point_inside_the_region_and_skips_the_rest() {
+    let spec = SensorSpec {
+        noise: Noise {
+            axial: Axial {
+                sigma: 1e-3,
+                ..Axial::default()
+            },
+            edges: noise::Edges {
+                probability: 0.5,
+                jump: 0.01,
+            },
+            ..Noise::default()
+        },
+        ..ideal(small_camera(240, 180, 200.0))
+    };
+    let scene = Scene::new(&[
+        sphere(Vec3::new(0.05, 0.0, 1.0), 0.2, 120),
+        facing_plane(1.5),
+    ]);
+    let region = Region {
+        min: Vec3::new(-0.1, -0.15, 0.7),
+        max: Vec3::new(0.25, 0.1, 1.6),
+    };
+    let inside = |p: &Pixel| {
+        let q = p.point;
+        q.cmpge(region.min + 0.02).all() && q.cmple(region.max - 0.02).all()
+    };
+    let full = scan(&scene, &spec, &Affine3A::IDENTITY, 5);
+    let part = scan_within(&scene, &spec, &Affine3A::IDENTITY, 5, &region);
+    let kept = |s: &Scan| -> Vec<Pixel> { s.pixels.iter().copied().filter(inside).collect() };
+    assert!(kept(&full).len() > 2000, "{}", kept(&full).len());
+    assert_eq!(kept(&full), kept(&part));
+    let cast = part.pixels.iter().filter(|p| !p.clean.x.is_nan()).count();
+    let all = full.pixels.iter().filter(|p| !p.clean.x.is_nan()).count();
+    assert!(cast < all * 6 / 10, "{cast} of {all} pixels cast");
+}

@@ -1,0 +1,291 @@
+//! The work cell: a table, the clamp fixture and the motor lying in it cover up, with optional
+//! mask panels; every object a labelled, closed mesh in world coordinates (z up, table top z = 0).
+
+use glam::{Affine3A, EulerRot, Mat3, Vec2, Vec3};
+use motorgen::kernel::{Aabb, Extrusion, Mesh, cuboid, extrude};
+use motorgen::{Motor, PartKind, Scheme};
+use rand::{Rng, RngExt};
+use sensor::{Classes, Material, Target};
+
+use crate::config::{CellConfig, Shift};
+use crate::fixture::{Fixture, fixture};
+
+/// One object of the cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    /// Name, e.g. `cover_bolt_2`, `sliding_jaw`, `panel_1`.
+    pub name: String,
+    /// The motor part it is, or `None` for background (table, fixture, panels).
+    pub part: Option<PartKind>,
+    /// Instance id: the motor's part instances first, then the background objects.
+    pub instance: u32,
+    /// Closed mesh in world coordinates, m.
+    pub mesh: Mesh,
+    /// What the sensor's noise models read.
+    pub material: Material,
+}
+
+/// A composed cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cell {
+    /// Every object.
+    pub objects: Vec<Object>,
+    /// Motor frame to world.
+    pub motor_to_world: Affine3A,
+    /// Centre of the motor's bounding box at its nominal pose (before jitter), world: the point
+    /// cameras look at and crop boxes are centred on.
+    pub motor_center: Vec3,
+    /// Fixture parts and how far each moved from rest, m.
+    pub fixture: Vec<(String, Vec3)>,
+}
+
+/// What varies between cells besides the motor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Variation {
+    /// Mask panels present.
+    pub occluders: bool,
+    /// Fixture parts shifted.
+    pub fixture_shift: bool,
+    /// Cover and cover bolts removed.
+    pub cover_removed: bool,
+}
+
+/// Thickness of the base plate, m.
+const PLATE: f32 = 0.012;
+
+/// The rotation that lays a motor down: its axis (motor +z) along world +x and its gear axis
+/// (out of the cover) along world +z.
+fn lay_down(motor: &Motor) -> Mat3 {
+    let axis = Vec3::Z;
+    let up = motor
+        .attributes
+        .gears
+        .first()
+        .map_or(Vec3::NEG_Y, |g| g.axis);
+    let side = up.cross(axis);
+    Mat3::from_cols(Vec3::X, Vec3::Y, Vec3::Z) * Mat3::from_cols(axis, side, up).transpose()
+}
+
+fn corners(b: &Aabb) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { b.min.x } else { b.max.x },
+            if i & 2 == 0 { b.min.y } else { b.max.y },
+            if i & 4 == 0 { b.min.z } else { b.max.z },
+        )
+    })
+}
+
+/// The box of `b` moved by `t`.
+pub fn transform_box(b: &Aabb, t: &Affine3A) -> Aabb {
+    corners(b).iter().fold(Aabb::EMPTY, |acc, &c| {
+        let p = t.transform_point3(c);
+        acc.union(Aabb { min: p, max: p })
+    })
+}
+
+fn draw(s: &Shift, rng: &mut impl Rng) -> Vec3 {
+    Vec3::new(s[0].sample(rng), s[1].sample(rng), s[2].sample(rng))
+}
+
+/// Composes a cell around `motor`. Every random draw comes from `rng`, in a fixed order.
+pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut impl Rng) -> Cell {
+    let lay = Affine3A::from_mat3(lay_down(motor));
+    let laid = transform_box(&motor.attributes.bounds, &lay);
+    let c = laid.center();
+    let nominal =
+        Affine3A::from_translation(Vec3::new(-c.x, -c.y, PLATE + config.clearance - laid.min.z))
+            * lay;
+    let motor_center = nominal.transform_point3(motor.attributes.bounds.center());
+    let [jx, jy, jz] = config.pose_jitter_deg.map(|d| {
+        let d = d.to_radians();
+        if d > 0.0 {
+            rng.random_range(-d..=d)
+        } else {
+            0.0
+        }
+    });
+    let jitter = Affine3A::from_translation(motor_center)
+        * Affine3A::from_mat3(Mat3::from_euler(EulerRot::XYZ, jx, jy, jz))
+        * Affine3A::from_translation(-motor_center);
+    let motor_to_world = jitter * nominal;
+
+    let hidden = |k: PartKind| match k {
+        PartKind::Magnet | PartKind::Armature => true,
+        PartKind::Cover | PartKind::CoverBolt => vary.cover_removed,
+        PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => !vary.cover_removed,
+        _ => false,
+    };
+    let mut objects: Vec<Object> = motor
+        .parts
+        .iter()
+        .filter(|p| !hidden(p.kind))
+        .map(|p| Object {
+            name: p.name.clone(),
+            part: Some(p.kind),
+            instance: p.instance,
+            mesh: p.mesh.clone().transformed(&motor_to_world),
+            material: material(p.kind),
+        })
+        .collect();
+
+    let pot = motor
+        .parts
+        .iter()
+        .find(|p| p.kind == PartKind::PolePot)
+        .map(|p| transform_box(&p.mesh.bounds(), &nominal))
+        .expect("every motor has a pole pot");
+    let motor_box = transform_box(&motor.attributes.bounds, &nominal);
+    let mut shift = |s: &Shift| {
+        if vary.fixture_shift {
+            draw(s, rng)
+        } else {
+            Vec3::ZERO
+        }
+    };
+    let f = &config.fixture;
+    let shifts = Fixture {
+        fixed_jaw: shift(&f.fixed_jaw),
+        sliding_jaw: shift(&f.sliding_jaw),
+        pillar: shift(&f.pillar),
+        cylinder: shift(&f.cylinder),
+    };
+    let mut next = motor.parts.iter().map(|p| p.instance).max().unwrap_or(0) + 1;
+    let mut add = |objects: &mut Vec<Object>, name: String, mesh: Mesh, material: Material| {
+        objects.push(Object {
+            name,
+            part: None,
+            instance: next,
+            mesh,
+            material,
+        });
+        next += 1;
+    };
+    add(
+        &mut objects,
+        "table".into(),
+        cuboid(Vec3::new(-0.6, -0.6, -0.02), Vec3::new(0.6, 0.6, 0.0)),
+        TABLE,
+    );
+    for (name, mesh, material) in fixture(&pot, &motor_box, PLATE, &shifts) {
+        add(&mut objects, name.into(), mesh, material);
+    }
+    if vary.occluders {
+        let top = transform_box(&motor.attributes.bounds, &motor_to_world)
+            .max
+            .z;
+        let gears = &motor.attributes.gears;
+        let gearbox = gears.iter().map(|g| g.center).sum::<Vec3>() / gears.len().max(1) as f32;
+        let gearbox = motor_to_world.transform_point3(gearbox);
+        let o = &config.occluders;
+        let count = rng.random_range(o.count[0]..=o.count[1]);
+        for i in 0..count {
+            let (a, b) = (o.size.sample(rng) / 2.0, o.size.sample(rng) / 2.0);
+            let spread = |rng: &mut _| {
+                if o.spread > 0.0 {
+                    RngExt::random_range(rng, -o.spread..=o.spread)
+                } else {
+                    0.0
+                }
+            };
+            let centre = Vec3::new(
+                gearbox.x + spread(rng),
+                gearbox.y + spread(rng),
+                top + o.height.sample(rng),
+            );
+            let tilt = o.tilt_deg.to_radians();
+            let tilt = if tilt > 0.0 {
+                rng.random_range(-tilt..=tilt)
+            } else {
+                0.0
+            };
+            let yaw = rng.random_range(0.0..std::f32::consts::TAU);
+            let pose = Affine3A::from_translation(centre)
+                * Affine3A::from_rotation_z(yaw)
+                * Affine3A::from_rotation_x(tilt);
+            let panel = cuboid(Vec3::new(-a, -b, -0.001), Vec3::new(a, b, 0.001));
+            add(
+                &mut objects,
+                format!("panel_{}", i + 1),
+                panel.transformed(&pose),
+                PANEL,
+            );
+        }
+    }
+    Cell {
+        objects,
+        motor_to_world,
+        motor_center,
+        fixture: [
+            ("fixed_jaw", shifts.fixed_jaw),
+            ("sliding_jaw", shifts.sliding_jaw),
+            ("pillar", shifts.pillar),
+            ("cylinder", shifts.sliding_jaw + shifts.cylinder),
+        ]
+        .map(|(n, s)| (n.to_string(), s))
+        .into(),
+    }
+}
+
+impl Cell {
+    /// The sensor's targets, labelled with `scheme` (background objects 0).
+    pub fn targets(&self, scheme: Scheme) -> Vec<Target> {
+        self.objects
+            .iter()
+            .map(|o| Target {
+                positions: o.mesh.positions.clone(),
+                triangles: o.mesh.triangles.clone(),
+                classes: Classes::Uniform(o.part.map_or(0, |k| scheme.id(k)) as u16),
+                instance: o.instance,
+                material: o.material,
+            })
+            .collect()
+    }
+}
+
+const fn mat(reflectivity: f32, specular: f32, lobe: f32) -> Material {
+    Material {
+        reflectivity,
+        specular,
+        lobe,
+    }
+}
+
+/// Light grey table top.
+const TABLE: Material = mat(0.55, 0.0, 0.2);
+/// Matte grey mask panel.
+const PANEL: Material = mat(0.5, 0.0, 0.2);
+/// White base plate.
+pub(crate) const PLATE_MATERIAL: Material = mat(0.8, 0.05, 0.3);
+/// Blue anodised jaws.
+pub(crate) const JAW: Material = mat(0.3, 0.1, 0.25);
+/// Brushed aluminium (pillar, cylinder).
+pub(crate) const ALUMINIUM: Material = mat(0.6, 0.4, 0.15);
+
+/// The sensor material of a motor part, from the add-on's colours and metalness: polished
+/// steel pole pot and bolt heads are specular, black plastic is dark.
+pub fn material(kind: PartKind) -> Material {
+    match kind {
+        PartKind::PolePot => mat(0.45, 0.6, 0.15),
+        PartKind::SideBolt | PartKind::CoverBolt => mat(0.7, 0.8, 0.1),
+        PartKind::GearContainer | PartKind::Cover => mat(0.12, 0.15, 0.3),
+        PartKind::ElectricConnection => mat(0.6, 0.0, 0.2),
+        PartKind::Magnet => mat(0.1, 0.0, 0.2),
+        PartKind::Armature => mat(0.5, 0.5, 0.2),
+        PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => mat(0.8, 0.05, 0.3),
+    }
+}
+
+/// A closed cylinder of `radius` from `a` to `b`, `n` sides.
+pub(crate) fn cylinder(a: Vec3, b: Vec3, radius: f32, n: usize) -> Mesh {
+    let d = b - a;
+    let outer = motorgen::kernel::circle(Vec2::ZERO, radius, n, 0.0);
+    let mesh = extrude(&Extrusion {
+        outer,
+        z0: 0.0,
+        z1: d.length(),
+        ..Extrusion::default()
+    });
+    let rotation = glam::Quat::from_rotation_arc(Vec3::Z, d.normalize());
+    mesh.transformed(&Affine3A::from_rotation_translation(rotation, a))
+}

@@ -1,0 +1,357 @@
+//! One sample: a motor in a cell, scanned from one or more views, cropped and augmented, all in
+//! memory and a pure function of (configuration, sample index).
+
+use glam::{Affine3A, Mat4, Vec3};
+use motorgen::kernel::Aabb;
+use motorgen::{Dist, Motor, ParamSpace, build, derive_seed};
+use rand::{Rng, RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use sensor::{PointCloud, Region, Scan, Scene, SensorSpec, scan, scan_within};
+use serde_json::json;
+
+use crate::augment::{Level, Split, assign};
+use crate::cell::{Cell, Variation, compose};
+use crate::config::{Config, CropConfig, Variant};
+use crate::error::Result;
+use crate::rig::camera_poses;
+
+/// How far beyond the crop box a scan still casts rays, m: more than a pixel's footprint and the
+/// reach of lateral jitter, mixed pixels and the Kinect window, so cropping loses nothing.
+const REGION_MARGIN: f32 = 0.02;
+
+/// Independent random streams of a sample (so that changing one setting leaves the others'
+/// draws alone).
+mod stream {
+    pub const MOTOR: u64 = 0;
+    pub const CELL: u64 = 1;
+    pub const CAMERA: u64 = 2;
+    pub const CROP: u64 = 3;
+    pub const NOISE_SCALE: u64 = 4;
+    pub const COVER: u64 = 5;
+    pub const SCAN: u64 = 100;
+    pub const JITTER: u64 = 200;
+}
+
+/// A checked configuration, ready to make samples.
+#[derive(Clone, Debug)]
+pub struct Recipe {
+    /// The configuration.
+    pub config: Config,
+    /// The sweep values that made it from the base configuration.
+    pub sweep: Vec<(String, toml::Value)>,
+    /// The motor parameter space of each variant (one space when no variants are listed).
+    spaces: Vec<ParamSpace>,
+    /// The sensor, binning applied.
+    sensor: SensorSpec,
+}
+
+impl Recipe {
+    /// Checks `config` and prepares its parameter spaces and sensor.
+    pub fn new(config: Config, sweep: Vec<(String, toml::Value)>) -> Result<Recipe> {
+        config.check()?;
+        let base = config.param_space()?;
+        let spaces = if config.motor.variants.is_empty() {
+            vec![base]
+        } else {
+            config
+                .motor
+                .variants
+                .iter()
+                .map(|v| {
+                    let mut s = base.clone();
+                    for (key, value) in v.params() {
+                        s.set(key, Dist::from_cli(key, value)?)?;
+                    }
+                    Ok(s)
+                })
+                .collect::<Result<_>>()?
+        };
+        let sensor = config.sensor.resolve()?;
+        Ok(Recipe {
+            config,
+            sweep,
+            spaces,
+            sensor,
+        })
+    }
+
+    /// The sensor, binning applied, before the per-sample noise scale.
+    pub fn sensor(&self) -> &SensorSpec {
+        &self.sensor
+    }
+}
+
+/// One view of a sample.
+#[derive(Clone, Debug)]
+pub struct View {
+    /// Camera-to-world pose.
+    pub pose: Affine3A,
+    /// Seed of the scan's per-pixel noise.
+    pub noise_seed: u64,
+    /// Points inside the crop box, in the output frame and units.
+    pub cloud: PointCloud,
+    /// Every point of the scan, when the config asks for it.
+    pub scene_cloud: Option<PointCloud>,
+    /// The organized scan, when images are asked for.
+    pub scan: Option<Scan>,
+}
+
+/// A finished sample in memory.
+#[derive(Clone, Debug)]
+pub struct Sample {
+    /// Index in the dataset.
+    pub index: u64,
+    /// Seed derived from the global seed and the index.
+    pub seed: u64,
+    /// Motor variant, if the config lists variants.
+    pub variant: Option<Variant>,
+    /// Augmentation level.
+    pub level: Level,
+    /// Split.
+    pub split: Split,
+    /// The motor.
+    pub motor: Motor,
+    /// The cell it lies in.
+    pub cell: Cell,
+    /// Whether cover and cover bolts were removed.
+    pub cover_removed: bool,
+    /// Crop box, world.
+    pub crop: Aabb,
+    /// The sensor as used (noise scaled).
+    pub sensor: SensorSpec,
+    /// Factor applied to the sensor's axial noise.
+    pub noise_scale: f32,
+    /// The views.
+    pub views: Vec<View>,
+}
+
+fn rng(seed: u64, stream: u64) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(derive_seed(seed, stream))
+}
+
+/// The crop box around `centre`, each face drawn from its span.
+fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
+    let min = Vec3::new(
+        c.x_min.sample(rng),
+        c.y_min.sample(rng),
+        c.z_min.sample(rng),
+    );
+    let max = Vec3::new(
+        c.x_max.sample(rng),
+        c.y_max.sample(rng),
+        c.z_max.sample(rng),
+    );
+    Aabb {
+        min: centre + min,
+        max: centre + max,
+    }
+}
+
+/// Makes sample `index` of `recipe`.
+pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
+    let config = &recipe.config;
+    let seed = derive_seed(config.seed, index);
+    let variants = &config.motor.variants;
+    let (variant, k) = if variants.is_empty() {
+        (None, index)
+    } else {
+        let n = variants.len() as u64;
+        (Some(variants[(index % n) as usize]), index / n)
+    };
+    let (level, split) = assign(k, &config.augment);
+    let space = &recipe.spaces[(index % recipe.spaces.len() as u64) as usize];
+    let motor = build(
+        &space.sample(derive_seed(seed, stream::MOTOR))?,
+        config.motor.detail,
+    );
+    let cover_removed = rng(seed, stream::COVER).random::<f32>() < config.motor.cover_removed;
+    let lc = level.config(&config.augment);
+    let cell = compose(
+        &motor,
+        &config.cell,
+        Variation {
+            occluders: lc.occluders,
+            fixture_shift: lc.fixture_shift,
+            cover_removed,
+        },
+        &mut rng(seed, stream::CELL),
+    );
+    let crop = crop_box(
+        &config.crop,
+        cell.motor_center,
+        &mut rng(seed, stream::CROP),
+    );
+    let poses = camera_poses(
+        &config.camera,
+        cell.motor_center,
+        index,
+        &mut rng(seed, stream::CAMERA),
+    );
+    let noise_scale = lc.noise_scale.sample(&mut rng(seed, stream::NOISE_SCALE));
+    let mut sensor = recipe.sensor.clone();
+    let axial = &mut sensor.noise.axial;
+    axial.sigma *= noise_scale;
+    axial.per_metre *= noise_scale;
+    axial.per_metre2 *= noise_scale;
+
+    let scene = Scene::new(&cell.targets(config.output.scheme));
+    let out = &config.output;
+    let whole = out.scene_cloud || out.images;
+    let region = Region {
+        min: crop.min - REGION_MARGIN,
+        max: crop.max + REGION_MARGIN,
+    };
+    let views = poses
+        .into_iter()
+        .enumerate()
+        .map(|(v, pose)| {
+            let noise_seed = derive_seed(seed, stream::SCAN + v as u64);
+            let s = if whole {
+                scan(&scene, &sensor, &pose, noise_seed)
+            } else {
+                scan_within(&scene, &sensor, &pose, noise_seed, &region)
+            };
+            let mut jitter = rng(seed, stream::JITTER + v as u64);
+            let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
+            let to_frame = out.frame.from_camera(&pose);
+            View {
+                pose,
+                noise_seed,
+                cloud: cloud.transformed(&to_frame, out.units),
+                scene_cloud: out
+                    .scene_cloud
+                    .then(|| s.cloud(out.clean, out.frame, out.units)),
+                scan: out.images.then_some(s),
+            }
+        })
+        .collect();
+    Ok(Sample {
+        index,
+        seed,
+        variant,
+        level,
+        split,
+        motor,
+        cell,
+        cover_removed,
+        crop,
+        sensor,
+        noise_scale,
+        views,
+    })
+}
+
+/// The scan's points that lie in `crop` (world), in the camera frame, each moved by a uniform
+/// jitter of ± `jitter` per camera axis after cropping (as the original datasets did).
+fn cropped(
+    scan: &Scan,
+    crop: &Aabb,
+    clean: bool,
+    jitter: [f32; 3],
+    rng: &mut impl Rng,
+) -> PointCloud {
+    let mut out = PointCloud::default();
+    for p in &scan.pixels {
+        let q = if clean { p.clean } else { p.point };
+        if q.x.is_nan() {
+            continue;
+        }
+        let w = scan.pose.transform_point3(q);
+        if w.cmpge(crop.min).all() && w.cmple(crop.max).all() {
+            out.push(q, p.normal, p.intensity, p.class, p.instance);
+        }
+    }
+    if jitter.iter().any(|&j| j > 0.0) {
+        let j = Vec3::from(jitter);
+        for q in &mut out.xyz {
+            let u = Vec3::new(rng.random(), rng.random(), rng.random());
+            *q += (u * 2.0 - 1.0) * j;
+        }
+    }
+    out
+}
+
+/// Row-major 4×4 matrix.
+pub fn matrix(t: &Affine3A) -> [[f32; 4]; 4] {
+    Mat4::from(*t).transpose().to_cols_array_2d()
+}
+
+impl Sample {
+    /// The file-name stem: index, variant and level, e.g. `000012_A1_noisy`.
+    pub fn stem(&self) -> String {
+        let variant = self.variant.map_or("motor".into(), |v| format!("{v:?}"));
+        format!("{:06}_{variant}_{}", self.index, self.level.name())
+    }
+
+    /// Ground truth and provenance as JSON: motor parameters and attributes (motor frame), motor,
+    /// fixture and camera poses, intrinsics, crop box, level, split and seeds.
+    pub fn json(&self, recipe: &Recipe, files: &[Vec<String>]) -> serde_json::Value {
+        let out = &recipe.config.output;
+        let first = self.views[0].pose;
+        let views: Vec<_> = self
+            .views
+            .iter()
+            .zip(files)
+            .map(|(v, files)| {
+                json!({
+                    "camera_to_world": matrix(&v.pose),
+                    "motor_to_camera": matrix(&(v.pose.inverse() * self.cell.motor_to_world)),
+                    "camera_to_first_camera": matrix(&(first.inverse() * v.pose)),
+                    "noise_seed": v.noise_seed,
+                    "points": v.cloud.len(),
+                    "files": files,
+                })
+            })
+            .collect();
+        let objects: Vec<_> = self
+            .cell
+            .objects
+            .iter()
+            .map(|o| {
+                json!({
+                    "name": o.name,
+                    "instance": o.instance,
+                    "class": o.part.map_or(0, |k| out.scheme.id(k)),
+                    "part": o.part,
+                    "material": o.material,
+                })
+            })
+            .collect();
+        let fixture: serde_json::Map<String, serde_json::Value> = self
+            .cell
+            .fixture
+            .iter()
+            .map(|(n, s)| (n.clone(), json!(s)))
+            .collect();
+        json!({
+            "index": self.index,
+            "seed": self.seed,
+            "variant": self.variant,
+            "level": self.level,
+            "split": self.split,
+            "sweep": self.sweep_json(recipe),
+            "cover_removed": self.cover_removed,
+            "motor": motorgen::export::motor_json(&self.motor),
+            "motor_to_world": matrix(&self.cell.motor_to_world),
+            "fixture_shift": fixture,
+            "objects": objects,
+            "crop": { "min": self.crop.min, "max": self.crop.max },
+            "noise_scale": self.noise_scale,
+            "jitter": self.level.config(&recipe.config.augment).jitter,
+            "sensor": self.sensor,
+            "frame": out.frame,
+            "units": out.units,
+            "scheme": out.scheme,
+            "views": views,
+        })
+    }
+
+    fn sweep_json(&self, recipe: &Recipe) -> serde_json::Value {
+        recipe
+            .sweep
+            .iter()
+            .map(|(k, v)| (k.clone(), serde_json::to_value(v).unwrap_or_default()))
+            .collect::<serde_json::Map<_, _>>()
+            .into()
+    }
+}

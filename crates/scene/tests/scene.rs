@@ -1,0 +1,186 @@
+//! The cell, rigs, crop and augmentation assignment by their invariants.
+
+use glam::Vec3;
+use motorgen::kernel::inspect;
+use motorgen::{Detail, ParamSpace, PartKind, Scheme, build, derive_seed};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use scene::augment::{Level, Split, assign};
+use scene::config::{CameraConfig, CellConfig, Config, Rig};
+use scene::rig::camera_poses;
+use scene::{Variation, compose};
+
+fn default_table() -> toml::Table {
+    toml::from_str(scene::DEFAULT_CONFIG).unwrap()
+}
+
+#[test]
+fn the_default_config_file_is_the_default_config() {
+    assert_eq!(
+        Config::from_table(&default_table()).unwrap(),
+        Config::default()
+    );
+    // every shipped config is valid on top of it
+    for name in [
+        "synmotor",
+        "zivid",
+        "registration",
+        "sweep-pole-pot",
+        "sweep-noise",
+    ] {
+        let text = std::fs::read_to_string(format!("../../configs/{name}.toml")).unwrap();
+        let mut t = default_table();
+        scene::overlay(&mut t, toml::from_str(&text).unwrap());
+        Config::from_table(&t).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+}
+
+#[test]
+fn motors_lie_cover_up_in_closed_fixtures_for_many_seeds() {
+    let config = CellConfig::default();
+    for seed in 0..40 {
+        let params = ParamSpace::addon().sample(derive_seed(7, seed)).unwrap();
+        let motor = build(&params, Detail::Coarse);
+        let vary = Variation {
+            occluders: seed % 2 == 0,
+            fixture_shift: seed % 3 == 0,
+            cover_removed: seed % 4 == 0,
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let cell = compose(&motor, &config, vary, &mut rng);
+        // cover up within the pose jitter, motor axis along world x
+        let up = cell
+            .motor_to_world
+            .transform_vector3(motor.attributes.gears[0].axis);
+        assert!(up.z > (16f32).to_radians().cos(), "{up}");
+        let axis = cell.motor_to_world.transform_vector3(Vec3::Z);
+        assert!(axis.x.abs() > 0.98, "{axis}");
+        // every object a closed solid; unique instances; motor above the table
+        let mut instances = std::collections::BTreeSet::new();
+        for o in &cell.objects {
+            let report = inspect(&o.mesh);
+            assert!(report.is_valid_solid(), "{}: {report:?}", o.name);
+            assert!(
+                instances.insert(o.instance),
+                "{} repeats an instance",
+                o.name
+            );
+            if o.part.is_some() {
+                assert!(o.mesh.bounds().min.z > 0.0, "{} below the table", o.name);
+            }
+        }
+        let has = |k: PartKind| cell.objects.iter().any(|o| o.part == Some(k));
+        assert_eq!(has(PartKind::Cover), !vary.cover_removed);
+        assert_eq!(
+            has(PartKind::LowerGear) || has(PartKind::SingleGear),
+            vary.cover_removed
+        );
+        assert!(!has(PartKind::Magnet) && !has(PartKind::Armature));
+        let panels = cell
+            .objects
+            .iter()
+            .filter(|o| o.name.starts_with("panel"))
+            .count();
+        assert_eq!(panels > 0, vary.occluders);
+        let shifted = cell.fixture.iter().any(|(_, s)| *s != Vec3::ZERO);
+        assert_eq!(shifted, vary.fixture_shift);
+        // the jaws grip the pole pot: each within 2 cm of it
+        let pot = cell
+            .objects
+            .iter()
+            .find(|o| o.part == Some(PartKind::PolePot))
+            .unwrap()
+            .mesh
+            .bounds();
+        for jaw in ["fixed_jaw", "sliding_jaw"] {
+            let b = cell
+                .objects
+                .iter()
+                .find(|o| o.name == jaw)
+                .unwrap()
+                .mesh
+                .bounds();
+            let gap = (b.min.y - pot.max.y).max(pot.min.y - b.max.y);
+            assert!(gap < 0.02, "{jaw} {gap}");
+        }
+        // labels: background 0, parts by the scheme
+        for t in cell.targets(Scheme::InnerParts) {
+            let o = cell
+                .objects
+                .iter()
+                .find(|o| o.instance == t.instance)
+                .unwrap();
+            let expected = o.part.map_or(0, |k| Scheme::InnerParts.id(k)) as u16;
+            assert_eq!(t.classes, sensor::Classes::Uniform(expected));
+        }
+    }
+}
+
+#[test]
+fn cap_cameras_look_at_the_motor_from_the_configured_cap() {
+    let config = CameraConfig {
+        views: 3,
+        ..CameraConfig::default()
+    };
+    let centre = Vec3::new(0.01, -0.02, 0.06);
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for i in 0..200 {
+        for pose in camera_poses(&config, centre, i, &mut rng) {
+            let eye = Vec3::from(pose.translation);
+            let forward = pose.transform_vector3(Vec3::Z);
+            let to_centre = (centre - eye).normalize();
+            assert!(forward.dot(to_centre) > 0.99999);
+            let d = (centre - eye).length();
+            assert!((0.56 - 1e-4..=0.64 + 1e-4).contains(&d), "{d}");
+            let tilt = (eye - centre).normalize().z.acos().to_degrees();
+            assert!(tilt <= 15.0 + 1e-2, "{tilt}");
+            // roll within ±25° of the motor axis along the image rows
+            let x = pose.transform_vector3(Vec3::X);
+            let flat = (Vec3::X - forward * forward.dot(Vec3::X)).normalize();
+            assert!(x.dot(flat) >= (25.0f32 + 0.1).to_radians().cos(), "{x}");
+        }
+    }
+    let fixed = CameraConfig {
+        rig: Rig::Fixed,
+        look_at: [0.0, 0.0, 0.5, 0.0, 0.0, 0.0],
+        ..CameraConfig::default()
+    };
+    let pose = camera_poses(&fixed, centre, 0, &mut rng)[0];
+    assert!((Vec3::from(pose.translation) - (centre + Vec3::new(0.0, 0.0, 0.5))).length() < 1e-6);
+    // world +y appears up in the image (camera y is down)
+    assert!(pose.transform_vector3(Vec3::Y).dot(Vec3::Y) < -0.999);
+}
+
+#[test]
+fn levels_and_splits_hold_their_shares_in_every_prefix() {
+    let a = Config::default().augment;
+    let mut counts = std::collections::HashMap::new();
+    for k in 0..1000u64 {
+        let (level, split) = assign(k, &a);
+        *counts.entry((level, split)).or_insert(0u32) += 1;
+        if k + 1 == 50 || k + 1 == 1000 {
+            let n = (k + 1) as f32;
+            for (l, share) in [
+                (Level::Clean, 0.2),
+                (Level::Occluded, 0.2),
+                (Level::Noisy, 0.6),
+            ] {
+                let c: u32 = [Split::Train, Split::Validation]
+                    .iter()
+                    .map(|s| counts.get(&(l, *s)).copied().unwrap_or(0))
+                    .sum();
+                assert!(
+                    (c as f32 / n - share).abs() <= 1.5 / n + 0.01,
+                    "{l:?} {c} of {n}"
+                );
+                let v = counts.get(&(l, Split::Validation)).copied().unwrap_or(0);
+                if n >= 1000.0 {
+                    assert!(
+                        (v as f32 / c as f32 - 0.2).abs() < 0.03,
+                        "{l:?} validation {v}/{c}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,184 @@
+//! `generate` and `config`: labelled datasets from TOML configurations.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use scene::{Dataset, Shard, overlay, parse_value, set_key};
+
+use crate::error::{CliError, CliResult};
+use crate::progress::Progress;
+
+/// The configurations shipped in `configs/`, built into the binary.
+pub const CONFIGS: [(&str, &str); 6] = [
+    ("default", scene::DEFAULT_CONFIG),
+    ("synmotor", include_str!("../configs/synmotor.toml")),
+    ("zivid", include_str!("../configs/zivid.toml")),
+    ("registration", include_str!("../configs/registration.toml")),
+    (
+        "sweep-pole-pot",
+        include_str!("../configs/sweep-pole-pot.toml"),
+    ),
+    ("sweep-noise", include_str!("../configs/sweep-noise.toml")),
+];
+
+/// Generate a labelled dataset: motors in the work cell, scanned, cropped and augmented.
+#[derive(Debug, Args)]
+pub struct GenerateCmd {
+    /// Dataset configuration (TOML); the built-in default when absent. A name from
+    /// `motorfactory config --list` also works.
+    #[arg(long)]
+    config: Option<String>,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Number of samples (default: the config's `samples`).
+    #[arg(short = 'n', long = "samples")]
+    samples: Option<u64>,
+    /// Global seed (default: the config's `seed`).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Make only samples with index % N == I (I/N), e.g. one task of a Slurm array.
+    #[arg(long, default_value = "0/1")]
+    shard: String,
+    /// Finish a dataset a killed run left unfinished.
+    #[arg(long)]
+    resume: bool,
+    /// Override a config key: `--set camera.distance=[0.5,0.6]`, `--set motor.params.type=B`
+    /// (repeatable; the value is TOML, or a bare word as text).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    sets: Vec<String>,
+    /// No progress output.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// Print or list the built-in configurations.
+#[derive(Debug, Args)]
+pub struct ConfigCmd {
+    /// Print a built-in configuration (see --list).
+    #[arg(long, value_name = "NAME")]
+    print: Option<String>,
+    /// List the built-in configurations.
+    #[arg(long)]
+    list: bool,
+}
+
+impl ConfigCmd {
+    /// Runs the command.
+    pub fn run(&self) -> CliResult<()> {
+        match (&self.print, self.list) {
+            (Some(name), _) => {
+                print!("{}", builtin(name)?);
+                Ok(())
+            }
+            (None, true) => {
+                for (name, _) in CONFIGS {
+                    println!("{name}");
+                }
+                Ok(())
+            }
+            (None, false) => Err(CliError::Usage("give --print NAME or --list".into())),
+        }
+    }
+}
+
+fn builtin(name: &str) -> CliResult<&'static str> {
+    CONFIGS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, text)| *text)
+        .ok_or_else(|| {
+            let names: Vec<&str> = CONFIGS.iter().map(|(n, _)| *n).collect();
+            CliError::Usage(format!(
+                "unknown built-in configuration \"{name}\": expected one of {}",
+                names.join(", ")
+            ))
+        })
+}
+
+fn scene_error(e: scene::Error) -> CliError {
+    if e.is_usage() {
+        CliError::Usage(e.to_string())
+    } else {
+        CliError::Runtime(e.to_string())
+    }
+}
+
+impl GenerateCmd {
+    /// Reads the configuration and applies `--set`.
+    fn table(&self) -> CliResult<toml::Table> {
+        let (text, name) = match &self.config {
+            None => (scene::DEFAULT_CONFIG.to_string(), "default".to_string()),
+            Some(c) if CONFIGS.iter().any(|(n, _)| n == c) => (builtin(c)?.to_string(), c.clone()),
+            Some(path) => (
+                std::fs::read_to_string(path)
+                    .map_err(|e| CliError::Usage(format!("config {path}: {e}")))?,
+                path.clone(),
+            ),
+        };
+        let top: toml::Table =
+            toml::from_str(&text).map_err(|e| CliError::Usage(format!("config {name}: {e}")))?;
+        let mut table: toml::Table =
+            toml::from_str(scene::DEFAULT_CONFIG).expect("the default config is valid TOML");
+        overlay(&mut table, top);
+        for s in &self.sets {
+            let (key, value) = s.split_once('=').ok_or_else(|| {
+                CliError::Usage(format!(
+                    "--set {s}: expected KEY=VALUE, e.g. --set camera.views=2"
+                ))
+            })?;
+            set_key(&mut table, key.trim(), parse_value(value.trim())).map_err(scene_error)?;
+        }
+        Ok(table)
+    }
+
+    /// Runs the command.
+    pub fn run(&self) -> CliResult<()> {
+        let shard = Shard::parse(&self.shard).map_err(scene_error)?;
+        if self.jobs == Some(0) {
+            return Err(CliError::Usage("--jobs 0: expected at least 1".into()));
+        }
+        let dataset = Dataset::new(self.table()?, self.samples, self.seed, shard, &self.out)
+            .map_err(scene_error)?;
+        let done = dataset.prepare(self.resume).map_err(scene_error)?;
+        let todo = (0..dataset.samples)
+            .filter(|i| i % shard.count == shard.part)
+            .count() as u64;
+        let progress = Progress::new(todo, "samples", self.quiet);
+        for _ in &done {
+            progress.tick();
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.jobs.unwrap_or(0))
+            .build()
+            .map_err(|e| CliError::Runtime(e.to_string()))?;
+        let summary = pool
+            .install(|| dataset.run(done, &|_| progress.tick()))
+            .map_err(scene_error)?;
+        let (_, seconds) = progress.finish();
+        if !self.quiet {
+            let scheme = dataset.recipe(0).config.output.scheme;
+            let seen: Vec<String> = scheme
+                .classes()
+                .iter()
+                .zip(&summary.class_counts)
+                .filter(|(_, n)| **n > 0)
+                .map(|(c, n)| format!("{} {n}", c.name))
+                .collect();
+            eprintln!(
+                "{} samples made ({} already done) in {seconds:.1} s ({:.2} samples/s), {} points; \
+                 classes: {}; written to {}",
+                summary.made,
+                summary.skipped,
+                summary.made as f64 / seconds.max(1e-9),
+                summary.points,
+                seen.join(", "),
+                self.out.display()
+            );
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,351 @@
+//! `motorfactory generate` end to end: a small dataset checked file by file, identical bytes for
+//! any --jobs and for shards, kill and resume, and every kind of bad configuration refused.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+use glam::{Affine3A, Mat4, Vec3};
+use ply_rs_bw::parser::Parser;
+use ply_rs_bw::ply::{DefaultElement, Property};
+
+fn generate(out: &Path, extra: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+        .args(["generate", "--quiet", "--out"])
+        .arg(out)
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+/// Small and quick: a Zivid 2+ M130 binned 4x4 (612x512) at 0.9-1 m.
+fn small(n: &str, extra: &[&str]) -> Vec<String> {
+    let base = [
+        "-n",
+        n,
+        "--set",
+        "sensor.preset=zivid-2plus-m130",
+        "--set",
+        "camera.distance=[0.9,1.0]",
+    ];
+    base.iter().chain(extra).map(|s| s.to_string()).collect()
+}
+
+fn ok(o: &Output) {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Every file below `dir` by relative path, manifests left out.
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(d).unwrap() {
+            let p = e.unwrap().path();
+            let name = p.strip_prefix(dir).unwrap().display().to_string();
+            if p.is_dir() {
+                stack.push(p);
+            } else if !name.starts_with("manifest") {
+                out.insert(name, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+/// Manifest rows of every manifest in `dir`, sorted.
+fn rows(dir: &Path) -> Vec<String> {
+    let mut rows: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("manifest")
+        })
+        .flat_map(|p| {
+            std::fs::read_to_string(p)
+                .unwrap()
+                .lines()
+                .map(String::from)
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    rows.sort();
+    rows
+}
+
+fn args(v: &[String]) -> Vec<&str> {
+    v.iter().map(String::as_str).collect()
+}
+
+fn read_ply(path: &Path) -> Vec<(Vec3, u16)> {
+    let mut f = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let ply = Parser::<DefaultElement>::new().read_ply(&mut f).unwrap();
+    ply.payload["vertex"]
+        .iter()
+        .map(|v| {
+            let f = |k: &str| match v[k] {
+                Property::Float(x) => x,
+                ref p => panic!("{k}: {p:?}"),
+            };
+            let class = match v["class"] {
+                Property::UShort(c) => c,
+                ref p => panic!("class: {p:?}"),
+            };
+            (Vec3::new(f("x"), f("y"), f("z")), class)
+        })
+        .collect()
+}
+
+#[test]
+fn small_dataset_is_complete_labelled_cropped_and_listed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ds");
+    let a = small(
+        "10",
+        &["--set", r#"output.formats=["ply","npy","npz","pcd"]"#],
+    );
+    ok(&generate(&out, &args(&a)));
+    let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
+    let rows: Vec<serde_json::Value> = manifest
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 10);
+    let mut seen = [0u64; 7];
+    let mut listed = std::collections::BTreeSet::new();
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row["index"], i as u64, "sorted by index");
+        let json_path = out.join(row["json"].as_str().unwrap());
+        let doc: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+        listed.insert(row["json"].as_str().unwrap().to_string());
+        assert_eq!(doc["index"], row["index"]);
+        assert_eq!(doc["split"], row["split"]);
+        for f in row["files"].as_array().unwrap() {
+            assert!(out.join(f.as_str().unwrap()).is_file(), "{f}");
+            listed.insert(f.as_str().unwrap().to_string());
+        }
+        let ply = row["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f.as_str().unwrap())
+            .find(|f| f.ends_with(".ply"))
+            .unwrap();
+        let points = read_ply(&out.join(ply));
+        assert_eq!(points.len() as u64, row["points"][0].as_u64().unwrap());
+        assert!(points.len() > 5_000, "{} points", points.len());
+        // every point inside the crop box (world), up to the jitter after cropping
+        let m: [[f32; 4]; 4] =
+            serde_json::from_value(doc["views"][0]["camera_to_world"].clone()).unwrap();
+        let pose = Affine3A::from_mat4(Mat4::from_cols_array_2d(&m).transpose());
+        let lo: Vec3 = serde_json::from_value(doc["crop"]["min"].clone()).unwrap();
+        let hi: Vec3 = serde_json::from_value(doc["crop"]["max"].clone()).unwrap();
+        let jitter: Vec3 = serde_json::from_value(doc["jitter"].clone()).unwrap();
+        let slack = jitter.length() + 1e-5;
+        for (p, class) in &points {
+            let w = pose.transform_point3(*p);
+            assert!(
+                w.cmpge(lo - slack).all() && w.cmple(hi + slack).all(),
+                "{w} outside {lo}..{hi}"
+            );
+            seen[*class as usize] += 1;
+        }
+        let counts: Vec<u64> = serde_json::from_value(row["class_counts"].clone()).unwrap();
+        assert_eq!(counts.iter().sum::<u64>(), points.len() as u64);
+    }
+    assert!(seen.iter().all(|&n| n > 0), "classes seen: {seen:?}");
+    // the manifest lists every sample file, and nothing else is there
+    let on_disk: std::collections::BTreeSet<String> = files(&out)
+        .into_keys()
+        .filter(|k| k.starts_with("train") || k.starts_with("validation"))
+        .collect();
+    assert_eq!(on_disk, listed);
+    // labels and the resolved config
+    let labels: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("labels.json")).unwrap()).unwrap();
+    assert_eq!(labels["classes"].as_array().unwrap().len(), 7);
+    assert_eq!(labels["classes"][6]["name"], "cover_bolt");
+    let config = std::fs::read_to_string(out.join("config.toml")).unwrap();
+    assert!(config.contains("samples = 10"), "{config}");
+    // the preview draws it
+    let png = dir.path().join("sheet.png");
+    let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+        .args(["preview", out.to_str().unwrap(), "--width", "96", "--out"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    ok(&o);
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+}
+
+#[test]
+fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = small("6", &[]);
+    let one = dir.path().join("one");
+    ok(&generate(&one, &[&args(&a)[..], &["--jobs", "1"]].concat()));
+    let two = dir.path().join("two");
+    ok(&generate(&two, &[&args(&a)[..], &["--jobs", "2"]].concat()));
+    assert_eq!(files(&one), files(&two));
+    assert_eq!(
+        std::fs::read(one.join("manifest.jsonl")).unwrap(),
+        std::fs::read(two.join("manifest.jsonl")).unwrap()
+    );
+    let shards = dir.path().join("shards");
+    for s in ["0/3", "1/3", "2/3"] {
+        ok(&generate(
+            &shards,
+            &[&args(&a)[..], &["--shard", s]].concat(),
+        ));
+    }
+    assert_eq!(files(&one), files(&shards));
+    assert_eq!(rows(&one), rows(&shards));
+    assert!(shards.join("manifest-2-of-3.jsonl").is_file());
+}
+
+#[test]
+fn killed_run_resumes_to_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = small("16", &["--jobs", "1"]);
+    let whole = dir.path().join("whole");
+    ok(&generate(&whole, &args(&a)));
+
+    let part = dir.path().join("part");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+        .args(["generate", "--quiet", "--out"])
+        .arg(&part)
+        .args(args(&a))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let manifest = part.join("manifest.jsonl");
+    let count = || {
+        std::fs::read_to_string(&manifest)
+            .map(|t| t.lines().count())
+            .unwrap_or(0)
+    };
+    while count() < 3 {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let done = count();
+    assert!(done < 16, "the run finished before it was killed");
+    // what a kill can leave: a torn manifest line and a temporary file
+    let mut m = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&manifest)
+        .unwrap();
+    std::io::Write::write_all(&mut m, b"{\"index\":15,\"spl").unwrap();
+    std::fs::write(part.join("train/000015_B0_noisy.npy.tmp"), b"half").unwrap();
+
+    let refused = generate(&part, &args(&a));
+    assert_eq!(
+        refused.status.code(),
+        Some(2),
+        "a second run needs --resume"
+    );
+    ok(&generate(&part, &[&args(&a)[..], &["--resume"]].concat()));
+    assert_eq!(files(&whole), files(&part));
+    assert_eq!(
+        std::fs::read(whole.join("manifest.jsonl")).unwrap(),
+        std::fs::read(&manifest).unwrap()
+    );
+}
+
+#[test]
+fn bad_configurations_are_refused_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let bad_file = dir.path().join("bad.toml");
+    std::fs::write(&bad_file, "[camera]\ndistanse = [0.5, 0.6]\n").unwrap();
+    let syntax = dir.path().join("syntax.toml");
+    std::fs::write(&syntax, "[camera\n").unwrap();
+    let blocker = dir.path().join("file");
+    std::fs::write(&blocker, "").unwrap();
+    let under_file = blocker.join("ds");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["--config", bad_file.to_str().unwrap()], "distanse"),
+        (vec!["--config", syntax.to_str().unwrap()], "syntax.toml"),
+        (vec!["--config", "nonexistent.toml"], "nonexistent.toml"),
+        (
+            vec!["--set", "camera.distance=[0.9, 0.1]"],
+            "camera.distance",
+        ),
+        (vec!["--set", "camera.views=\"two\""], "camera.views"),
+        (vec!["--set", "sensor.preset=zivid-9"], "zivid-9"),
+        (vec!["--set", "sensor.binning=3"], "sensor.binning"),
+        (
+            vec!["--set", "sensor.noise.dropout.rate=2.0"],
+            "dropout.rate",
+        ),
+        (
+            vec!["--set", "motor.params.pole_pot_length=0.5"],
+            "pole_pot_length",
+        ),
+        (vec!["--set", "motor.params.colour=red"], "colour"),
+        (vec!["--set", "motor.variants=[\"C3\"]"], "C3"),
+        (vec!["--set", "augment.clean.share=0.5"], "share"),
+        (vec!["--set", "motor.cover_removed=0.5"], "inner10"),
+        (vec!["--set", "output.formats=[\"las\"]"], "las"),
+        (vec!["--set", "nonsense"], "KEY=VALUE"),
+        (vec!["--shard", "4/4"], "--shard"),
+        (vec!["--jobs", "0"], "--jobs"),
+    ];
+    for (extra, message) in &cases {
+        let o = generate(&out, extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(err.contains(message), "{extra:?}: {err}");
+        assert!(!out.exists(), "{extra:?} wrote output");
+    }
+    let o = generate(&under_file, &["-n", "1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("output folder"));
+    // a folder holding another dataset is refused too
+    let ds = dir.path().join("ds");
+    ok(&generate(&ds, &args(&small("1", &[]))));
+    let o = generate(&ds, &args(&small("1", &["--seed", "5", "--resume"])));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("another configuration"));
+}
+
+#[test]
+fn built_in_configs_print_and_sweeps_vary_their_key() {
+    let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+        .args(["config", "--print", "default"])
+        .output()
+        .unwrap();
+    ok(&o);
+    assert_eq!(String::from_utf8_lossy(&o.stdout), scene::DEFAULT_CONFIG);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sweep");
+    let a = small("4", &["--config", "sweep-pole-pot"]);
+    ok(&generate(&out, &args(&a)));
+    let lengths: Vec<f64> = rows(&out)
+        .iter()
+        .map(|r| {
+            let row: serde_json::Value = serde_json::from_str(r).unwrap();
+            let doc: serde_json::Value = serde_json::from_str(
+                &std::fs::read_to_string(out.join(row["json"].as_str().unwrap())).unwrap(),
+            )
+            .unwrap();
+            let swept = doc["sweep"]["motor.params.pole_pot_length"]
+                .as_f64()
+                .unwrap();
+            let built = doc["motor"]["params"]["pole_pot_length"].as_f64().unwrap();
+            assert!((swept - built).abs() < 1e-6);
+            built
+        })
+        .collect();
+    let expected = [0.062, 0.067, 0.072, 0.077];
+    for (l, e) in lengths.iter().zip(expected) {
+        assert!((l - e).abs() < 1e-6, "{lengths:?}");
+    }
+}
