@@ -32,12 +32,12 @@ impl PixelRng {
         (self.bits(k) >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 
-    /// Standard normal (Box–Muller over streams `k` and `k + 1`).
+    /// Standard normal (Box–Muller over streams `k` and `k + 1`, in f32: tails to 5.8σ).
     #[inline]
     pub fn normal(self, k: u64) -> f32 {
-        let u1 = ((self.bits(k) >> 11) as f64 + 0.5) * (1.0 / (1u64 << 53) as f64);
-        let u2 = (self.bits(k + 1) >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-        ((-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()) as f32
+        let u1 = ((self.bits(k) >> 40) as f32 + 0.5) * (1.0 / (1u64 << 24) as f32);
+        let u2 = (self.bits(k + 1) >> 40) as f32 * (1.0 / (1u64 << 24) as f32);
+        (-2.0 * u1.ln()).sqrt() * (std::f32::consts::TAU * u2).cos()
     }
 }
 
@@ -75,7 +75,8 @@ pub struct Noise {
     pub axial: Axial,
     /// Growth of the axial noise towards grazing incidence.
     pub incidence: Incidence,
-    /// Gaussian jitter of the pixel's sampling position, pixels (σ).
+    /// Gaussian jitter of the pixel's sampling position, pixels (σ): the point moves to where
+    /// the jittered ray meets the tangent plane of the surface the pixel sees.
     pub lateral_px: f32,
     /// Range quantisation step, metres (0 = none).
     pub quantization: f32,

@@ -4,7 +4,7 @@ use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
 use crate::noise::{PixelRng, stream};
-use crate::scene::{Scene, SurfaceHit};
+use crate::scene::Scene;
 use crate::sensor::{Frustum, Model, SensorSpec};
 
 /// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
@@ -198,38 +198,38 @@ fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
     if region.is_some_and(|r| !r.crossed_by(origin, to_world(centre))) {
         return Pixel::EMPTY;
     }
-    let mut px = Pixel::EMPTY;
-    let clean = scene.cast(origin, to_world(centre), sensor.max_range);
-    let label = |px: &mut Pixel, h: &SurfaceHit, dir: Vec3| {
-        px.normal = Vec3::from(to_camera(h.normal));
-        px.class = h.class;
-        px.instance = h.instance;
-        px.incidence = px.normal.dot(-dir).clamp(-1.0, 1.0).acos();
+    let Some(hit) = scene.cast(origin, to_world(centre), sensor.max_range) else {
+        return Pixel::EMPTY;
     };
-    if let Some(h) = &clean {
-        px.clean = centre * h.t;
-        label(&mut px, h, centre);
-    }
+    let normal = Vec3::from(to_camera(hit.normal));
+    let px = Pixel {
+        clean: centre * hit.t,
+        normal,
+        class: hit.class,
+        instance: hit.instance,
+        incidence: normal.dot(-centre).clamp(-1.0, 1.0).acos(),
+        ..Pixel::EMPTY
+    };
 
-    // where this pixel actually samples: its centre, or a laterally jittered position
-    let (dir, hit) = if noise.lateral_px > 0.0 {
+    // where this pixel actually samples: its centre, or a laterally jittered position on the
+    // tangent plane of the surface it sees
+    let (dir, mut range) = if noise.lateral_px > 0.0 {
         let du = noise.lateral_px * rng.normal(stream::LATERAL);
         let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
         let d = k.ray(col as f64 + du as f64, row as f64 + dv as f64);
-        (d, scene.cast(origin, to_world(d), sensor.max_range))
+        let facing = normal.dot(d);
+        if facing.abs() < 1e-6 {
+            return px; // grazing: the jittered ray runs along the surface
+        }
+        (d, normal.dot(px.clean) / facing)
     } else {
-        (centre, clean)
+        (centre, hit.t)
     };
-    let Some(hit) = hit else { return px };
-    if hit.t < sensor.min_range {
+    if !(range >= sensor.min_range) {
         return px;
     }
-    let point = dir * hit.t;
-    let mut measured = Pixel {
-        clean: px.clean,
-        ..Pixel::EMPTY
-    };
-    label(&mut measured, &hit, dir);
+    let point = dir * range;
+    let mut measured = px;
 
     // illumination: the projector, or the camera itself
     let (light_dir, light_range) = match (sensor.projector(), frustum) {
@@ -250,7 +250,7 @@ fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
             }
             (l, range)
         }
-        _ => (-dir, hit.t),
+        _ => (-dir, range),
     };
     let cos_light = measured.normal.dot(light_dir).max(0.0);
     let signal =
@@ -269,7 +269,6 @@ fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
         }
     }
 
-    let mut range = hit.t;
     let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(measured.incidence);
     if sigma > 0.0 {
         range += sigma * rng.normal(stream::AXIAL);

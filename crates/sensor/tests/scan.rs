@@ -639,3 +639,28 @@ fn region_scan_keeps_every_point_inside_the_region_and_skips_the_rest() {
     let all = full.pixels.iter().filter(|p| !p.clean.x.is_nan()).count();
     assert!(cast < all * 6 / 10, "{cast} of {all} pixels cast");
 }
+
+#[test]
+fn lateral_jitter_moves_points_on_the_surface_by_the_configured_pixels() {
+    let noise = Noise {
+        lateral_px: 0.5,
+        ..Noise::default()
+    };
+    // 200k pixels of a plane 1 m away at f = 800 px: one pixel is 1.25 mm
+    let s = noisy_plane(1.0, noise, 3);
+    let (dx, dy): (Vec<f64>, Vec<f64>) = s
+        .pixels
+        .iter()
+        .filter(|p| p.is_valid())
+        .map(|p| {
+            assert!((p.point.z - 1.0).abs() < 1e-5, "left the plane: {}", p.point);
+            ((p.point.x - p.clean.x) as f64, (p.point.y - p.clean.y) as f64)
+        })
+        .unzip();
+    assert_eq!(dx.len(), 200_000);
+    for d in [dx, dy] {
+        let (m, sd) = mean_std(&d);
+        assert!(m.abs() < 1e-5, "mean {m}");
+        assert!((sd / (0.5 / 800.0) - 1.0).abs() < 0.05, "σ {sd}");
+    }
+}
