@@ -15,9 +15,10 @@ use crate::config::{Config, CropConfig, Variant};
 use crate::error::Result;
 use crate::rig::camera_poses;
 
-/// How far beyond the crop box a scan still casts rays, m: more than a pixel's footprint and the
-/// reach of lateral jitter, mixed pixels and the Kinect window, so cropping loses nothing.
-const REGION_MARGIN: f32 = 0.02;
+/// How far beyond the crop box a scan still casts rays, in pixel footprints at the box's far
+/// corner: beyond the reach of lateral jitter, mixed pixels and the Kinect window (4 pixels), so
+/// cropping loses nothing.
+const REGION_MARGIN_PX: f32 = 12.0;
 
 /// Independent random streams of a sample (so that changing one setting leaves the others'
 /// draws alone).
@@ -197,10 +198,6 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let scene = Scene::new(&cell.targets(config.output.scheme));
     let out = &config.output;
     let whole = out.scene_cloud || out.images;
-    let region = Region {
-        min: crop.min - REGION_MARGIN,
-        max: crop.max + REGION_MARGIN,
-    };
     let views = poses
         .into_iter()
         .enumerate()
@@ -209,6 +206,15 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             let s = if whole {
                 scan(&scene, &sensor, &pose, noise_seed)
             } else {
+                // no corner of the box is farther than this
+                let far = crop.center().distance(Vec3::from(pose.translation))
+                    + crop.size().length() / 2.0;
+                let k = &sensor.intrinsics;
+                let margin = REGION_MARGIN_PX * far / k.fx.min(k.fy) as f32;
+                let region = Region {
+                    min: crop.min - margin,
+                    max: crop.max + margin,
+                };
                 scan_within(&scene, &sensor, &pose, noise_seed, &region)
             };
             let mut jitter = rng(seed, stream::JITTER + v as u64);

@@ -18,6 +18,7 @@ fn read<T: npyz::Deserialize>(path: &str) -> (Vec<u64>, Vec<T>) {
 fn main() {
     let a: Vec<String> = std::env::args().collect();
     let (threads, repeats): (usize, usize) = (a[4].parse().unwrap(), a[5].parse().unwrap());
+    let packets = a.get(7).is_some_and(|m| m == "packets");
     let (_, v) = read::<f32>(&a[1]);
     let (_, t) = read::<u32>(&a[2]);
     let (_, r) = read::<f32>(&a[3]);
@@ -52,6 +53,25 @@ fn main() {
             out.par_chunks_mut(4096)
                 .zip(rays.par_chunks(4096))
                 .for_each(|(o, rs)| {
+                    if packets {
+                        // 4 consecutive rays (a 2×2 block in the script's order) as one packet
+                        for (slots, rs) in o.chunks_mut(4).zip(rs.chunks(4)) {
+                            let dirs: [Vec3; 4] =
+                                std::array::from_fn(|k| rs.get(k).map_or(Vec3::Z, |r| r.1));
+                            let t_max: [f32; 4] =
+                                std::array::from_fn(|k| rs.get(k).map_or(0.0, |_| f32::INFINITY));
+                            let hits = scene.cast4(rs[0].0, &dirs, t_max);
+                            for (slot, h) in slots.iter_mut().zip(hits) {
+                                *slot = match h {
+                                    Some(h) => {
+                                        [h.t, h.triangle as f32, h.normal.x, h.normal.y, h.normal.z]
+                                    }
+                                    None => [f32::INFINITY, -1.0, 0.0, 0.0, 0.0],
+                                };
+                            }
+                        }
+                        return;
+                    }
                     for (slot, (origin, dir)) in o.iter_mut().zip(rs) {
                         *slot = match scene.cast(*origin, *dir, f32::INFINITY) {
                             Some(h) => [h.t, h.triangle as f32, h.normal.x, h.normal.y, h.normal.z],

@@ -67,6 +67,20 @@ pub struct Hit {
     pub v: f32,
 }
 
+impl Hit {
+    /// Takes `other` if it is nearer, or as near with a lower triangle slot (so that ties at
+    /// shared edges resolve the same way in any traversal order); returns its distance if so.
+    #[inline(always)]
+    fn closer(&mut self, other: Hit) -> Option<f32> {
+        let take = other.t < self.t
+            || (other.t == self.t && self.triangle != u32::MAX && other.triangle < self.triangle);
+        take.then(|| {
+            *self = other;
+            other.t
+        })
+    }
+}
+
 /// A bounding volume hierarchy over triangles.
 #[derive(Clone, Debug)]
 pub struct Bvh {
@@ -166,19 +180,65 @@ impl Bvh {
             v: 0.0,
         };
         let ray = ShearedRay::new(origin, dir);
-        self.walk(origin, dir, t_max, |tri, best_t| {
-            let (t, u, v) = ray.intersect(&self.tris[tri as usize], best_t)?;
-            best = Hit {
+        self.walk(origin, dir, t_max, |tri, _| {
+            let (t, u, v) = ray.intersect(&self.tris[tri as usize], best.t.next_up())?;
+            best.closer(Hit {
                 t,
                 triangle: tri,
                 u,
                 v,
-            };
-            Some(t)
+            })
         });
         (best.triangle != u32::MAX).then(|| Hit {
             triangle: self.order[best.triangle as usize],
             ..best
+        })
+    }
+
+    /// The closest hits of four rays from one origin (a 2×2 block of camera pixels, or shadow
+    /// rays from one light), traced together through the tree: each node's boxes are tested
+    /// against all four rays at once. Lanes with `t_max <= 0` are idle. Each lane gets exactly
+    /// what [`Bvh::cast`] gives it.
+    pub fn cast4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [Option<Hit>; 4] {
+        let mut best = t_max.map(|t| Hit {
+            t,
+            triangle: u32::MAX,
+            u: 0.0,
+            v: 0.0,
+        });
+        let rays = dirs.map(|d| ShearedRay::new(origin, d));
+        let packet = RayPacket::new(origin, &rays);
+        self.walk4(origin, dirs, t_max, |mut mask, slot, reach| {
+            let tri = &self.tris[slot as usize];
+            // all four lanes at once where the rays share their axes, else one by one
+            let simd = packet.as_ref().map(|p| p.intersect(tri, mask));
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let hit = match &simd {
+                    Some((found, t, u, v, _)) if found & (1 << lane) != 0 => {
+                        (t[lane] < best[lane].t.next_up()).then(|| (t[lane], u[lane], v[lane]))
+                    }
+                    Some((_, _, _, _, exact)) if exact & (1 << lane) != 0 => None,
+                    _ => rays[lane].intersect(tri, best[lane].t.next_up()),
+                };
+                if let Some((t, u, v)) = hit
+                    && let Some(t) = best[lane].closer(Hit {
+                        t,
+                        triangle: slot,
+                        u,
+                        v,
+                    })
+                {
+                    reach[lane] = t;
+                }
+            }
+        });
+        best.map(|b| {
+            (b.triangle != u32::MAX).then(|| Hit {
+                triangle: self.order[b.triangle as usize],
+                ..b
+            })
         })
     }
 
@@ -288,7 +348,7 @@ impl Bvh {
             // go to the nearest child still in reach, defer the others (farthest deepest)
             let mut next = None;
             for &(code, t) in entered[..count].iter().rev() {
-                if t >= best {
+                if t > best {
                     continue;
                 }
                 if let Some(deferred) = next.replace((code, t)) {
@@ -304,7 +364,108 @@ impl Bvh {
                     }
                     sp -= 1;
                     let (code, t) = stack[sp];
-                    if t < best {
+                    if t <= best {
+                        break code;
+                    }
+                },
+            };
+        }
+    }
+
+    /// The four-ray walk of [`Bvh::cast4`]: visits each node once for the whole packet, testing
+    /// its four boxes against the four rays; `leaf(lanes, slot, reach)` tests a leaf's triangle
+    /// for the lanes (bit mask) whose rays enter its box and lowers their `reach` on hits.
+    #[inline(always)]
+    fn walk4(
+        &self,
+        origin: Vec3,
+        dirs: &[Vec3; 4],
+        t_max: [f32; 4],
+        mut leaf: impl FnMut(u32, u32, &mut [f32; 4]),
+    ) {
+        let mut best = Vec4::from(t_max.map(|t| if t > 0.0 { t } else { -1.0 }));
+        if self.root == EMPTY || best.max_element() <= 0.0 {
+            return;
+        }
+        if self.root & LEAF != 0 {
+            let mask = best.cmpgt(Vec4::ZERO).bitmask();
+            leaf(mask, self.root & !LEAF, &mut best.to_array());
+            return;
+        }
+        let safe = |c: f32| {
+            if c.abs() < 1e-20 {
+                1e-20f32.copysign(c)
+            } else {
+                c
+            }
+        };
+        let inv = |axis: usize| Vec4::from(dirs.map(|d| 1.0 / safe(d.to_array()[axis])));
+        let i = [inv(0), inv(1), inv(2)];
+        let o = origin.to_array();
+        let widen = Vec4::splat(1.0 + 2.0 * GAMMA3);
+        let mut stack = [(0u32, 0.0f32); STACK];
+        let mut sp = 0;
+        let mut cur = self.root;
+        loop {
+            let n = &self.nodes[cur as usize];
+            let mut entered = [(0u32, 0.0f32); 4];
+            let mut count = 0;
+            for c in 0..4 {
+                let code = n.child[c];
+                if code == EMPTY {
+                    continue;
+                }
+                let mut near = Vec4::ZERO;
+                let mut far = best;
+                for axis in 0..3 {
+                    let lo: &[f32; 4] = n.lo[axis].as_ref();
+                    let hi: &[f32; 4] = n.hi[axis].as_ref();
+                    let t0 = Vec4::splat(lo[c] - o[axis]) * i[axis];
+                    let t1 = Vec4::splat(hi[c] - o[axis]) * i[axis];
+                    near = near.max(t0.min(t1));
+                    far = far.min(t0.max(t1) * widen);
+                }
+                let entering = near.cmple(far);
+                let mask = entering.bitmask();
+                if mask == 0 {
+                    continue;
+                }
+                if code & LEAF != 0 {
+                    let mut b = best.to_array();
+                    leaf(mask, code & !LEAF, &mut b);
+                    best = Vec4::from(b);
+                } else {
+                    let t = Vec4::select(entering, near, Vec4::INFINITY).min_element();
+                    let mut j = count;
+                    while j > 0 && entered[j - 1].1 > t {
+                        entered[j] = entered[j - 1];
+                        j -= 1;
+                    }
+                    entered[j] = (code, t);
+                    count += 1;
+                }
+            }
+            // the nearest child next, the others deferred (farthest deepest)
+            let reach = best.max_element();
+            let mut next = None;
+            for &(code, t) in entered[..count].iter().rev() {
+                if t > reach {
+                    continue;
+                }
+                if let Some(deferred) = next.replace((code, t)) {
+                    stack[sp] = deferred;
+                    sp += 1;
+                }
+            }
+            cur = match next {
+                Some((code, _)) => code,
+                None => loop {
+                    if sp == 0 {
+                        return;
+                    }
+                    sp -= 1;
+                    let (code, t) = stack[sp];
+                    if t <= best.max_element() {
                         break code;
                     }
                 },
@@ -427,5 +588,69 @@ impl ShearedRay {
         let inv = 1.0 / det;
         let t = t_scaled * inv;
         (t > 0.0 && t < t_max).then_some((t, v * inv, w * inv))
+    }
+}
+
+/// Four rays from one origin whose sheared frames share their axes: the watertight test of one
+/// triangle against all four in SIMD lanes, with the same operations as [`ShearedRay::intersect`]
+/// so that each lane gets the same bits.
+struct RayPacket {
+    origin: Vec3,
+    axes: [usize; 3],
+    sx: Vec4,
+    sy: Vec4,
+    sz: Vec4,
+}
+
+impl RayPacket {
+    /// The packet, if the four rays share their axes.
+    fn new(origin: Vec3, rays: &[ShearedRay; 4]) -> Option<RayPacket> {
+        rays.iter()
+            .all(|r| r.axes == rays[0].axes)
+            .then(|| RayPacket {
+                origin,
+                axes: rays[0].axes,
+                sx: Vec4::from(rays.each_ref().map(|r| r.shear.x)),
+                sy: Vec4::from(rays.each_ref().map(|r| r.shear.y)),
+                sz: Vec4::from(rays.each_ref().map(|r| r.shear.z)),
+            })
+    }
+
+    /// For the lanes in `mask`: (lanes hit with 0 < t, t, u, v, lanes decided here). Lanes on an
+    /// edge to f32 precision are not decided here: the scalar test settles them in f64.
+    #[inline(always)]
+    fn intersect(&self, tri: &Tri, mask: u32) -> (u32, [f32; 4], [f32; 4], [f32; 4], u32) {
+        let [kx, ky, kz] = self.axes;
+        let [a, b, c] = tri.map(|v| (v - self.origin).to_array());
+        let sheared = |p: [f32; 3]| {
+            let z = Vec4::splat(p[kz]);
+            (
+                Vec4::splat(p[kx]) - self.sx * z,
+                Vec4::splat(p[ky]) - self.sy * z,
+            )
+        };
+        let ((ax, ay), (bx, by), (cx, cy)) = (sheared(a), sheared(b), sheared(c));
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        let zero = Vec4::ZERO;
+        let on_edge = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask();
+        let negative = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
+        let positive = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
+        let outside = (negative & positive).bitmask();
+        let det = u + v + w;
+        let t_scaled = u * self.sz * Vec4::splat(a[kz])
+            + v * self.sz * Vec4::splat(b[kz])
+            + w * self.sz * Vec4::splat(c[kz]);
+        let inv = Vec4::ONE / det;
+        let t = t_scaled * inv;
+        let found = (det.cmpne(zero) & t.cmpgt(zero)).bitmask() & !outside & !on_edge & mask;
+        (
+            found,
+            t.to_array(),
+            (v * inv).to_array(),
+            (w * inv).to_array(),
+            !on_edge & mask,
+        )
     }
 }

@@ -4,7 +4,7 @@ use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
 use crate::noise::{PixelRng, stream};
-use crate::scene::Scene;
+use crate::scene::{Scene, SurfaceHit};
 use crate::sensor::{Frustum, Model, SensorSpec};
 
 /// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
@@ -129,15 +129,41 @@ fn scan_pixels(
         pose: *pose,
         seed,
         bias,
-        region,
     };
     let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
+    // pairs of rows, cast in 2×2 blocks of pixels traced together
+    let origin = Vec3::from(pose.translation);
     pixels
-        .par_chunks_mut(width)
+        .par_chunks_mut(2 * width)
         .enumerate()
-        .for_each(|(row, out)| {
-            for (col, px) in out.iter_mut().enumerate() {
-                *px = sample(&setup, col, row);
+        .for_each(|(pair, out)| {
+            let rows = out.len() / width;
+            for col in (0..width).step_by(2) {
+                let mut at = [None; 4];
+                let mut centres = [Vec3::Z; 4];
+                let mut dirs = [Vec3::Z; 4];
+                let mut t_max = [0.0; 4];
+                for (i, (dc, dr)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
+                    let (c, r) = (col + dc, dr);
+                    if c >= width || r >= rows {
+                        continue;
+                    }
+                    at[i] = Some((c, r));
+                    centres[i] = k.ray(c as f64, (2 * pair + r) as f64);
+                    dirs[i] = pose.transform_vector3(centres[i]);
+                    if region.is_none_or(|reg| reg.crossed_by(origin, dirs[i])) {
+                        t_max[i] = sensor.max_range;
+                    }
+                }
+                let hits = scene.cast4(origin, &dirs, t_max);
+                for i in 0..4 {
+                    if let Some((c, r)) = at[i] {
+                        out[r * width + c] = match hits[i] {
+                            Some(hit) => measure(&setup, c, 2 * pair + r, centres[i], hit),
+                            None => Pixel::EMPTY,
+                        };
+                    }
+                }
             }
         });
     let mut scan = Scan {
@@ -172,20 +198,18 @@ struct Setup<'a> {
     seed: u64,
     /// Per-scan range scale and offset.
     bias: (f32, f32),
-    /// Pixels whose rays miss this box are not cast.
-    region: Option<&'a Region>,
 }
 
-/// Measures one pixel.
-fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
+/// Measures one pixel whose centre ray (camera frame) hit `hit`.
+fn measure(setup: &Setup, col: usize, row: usize, centre: Vec3, hit: SurfaceHit) -> Pixel {
     let Setup {
-        scene,
         sensor,
         frustum,
         pose,
         seed,
         bias,
-        region,
+        scene,
+        ..
     } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
@@ -193,14 +217,6 @@ fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
     let origin = Vec3::from(pose.translation);
     let to_world = |d: Vec3| pose.transform_vector3(d);
     let to_camera = |d: Vec3| pose.matrix3.transpose() * glam::Vec3A::from(d);
-
-    let centre = k.ray(col as f64, row as f64);
-    if region.is_some_and(|r| !r.crossed_by(origin, to_world(centre))) {
-        return Pixel::EMPTY;
-    }
-    let Some(hit) = scene.cast(origin, to_world(centre), sensor.max_range) else {
-        return Pixel::EMPTY;
-    };
     let normal = Vec3::from(to_camera(hit.normal));
     let px = Pixel {
         clean: centre * hit.t,
@@ -225,7 +241,7 @@ fn sample(setup: &Setup, col: usize, row: usize) -> Pixel {
     } else {
         (centre, hit.t)
     };
-    if !(range >= sensor.min_range) {
+    if range.is_nan() || range < sensor.min_range {
         return px;
     }
     let point = dir * range;

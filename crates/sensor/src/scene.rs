@@ -128,6 +128,23 @@ impl Scene {
             .map(|h| self.describe(h, dir))
     }
 
+    /// The closest surfaces along four unit rays from one origin, traced together (see
+    /// [`Bvh::cast4`]); lanes with `t_max <= 0` are idle.
+    #[inline]
+    pub fn cast4(
+        &self,
+        origin: Vec3,
+        dirs: &[Vec3; 4],
+        t_max: [f32; 4],
+    ) -> [Option<SurfaceHit>; 4] {
+        let hits = self.bvh.cast4(origin, dirs, t_max);
+        let mut out = [None; 4];
+        for k in 0..4 {
+            out[k] = hits[k].map(|h| self.describe(h, dirs[k]));
+        }
+        out
+    }
+
     /// Whether any surface lies on the unit ray within `t_max`.
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {

@@ -165,6 +165,14 @@ fn watertight_through_vertices_and_edges() {
                 .expect("a ray from inside a closed mesh always hits");
             assert!((h.t - (*target - origin).length()).abs() < 1e-5);
         }
+        // the same through packets of four neighbouring targets (their rays share axes)
+        for four in targets.chunks_exact(4) {
+            let dirs: [Vec3; 4] = std::array::from_fn(|k| (four[k] - origin).normalize());
+            for (k, h) in bvh.cast4(origin, &dirs, [10.0; 4]).iter().enumerate() {
+                let h = h.expect("a ray from inside a closed mesh always hits");
+                assert!((h.t - (four[k] - origin).length()).abs() < 1e-5);
+            }
+        }
     }
 }
 
@@ -273,6 +281,41 @@ fn centre_row_rays_on_an_f64_tessellated_sphere_match_brute_force() {
         );
         if let (Some(g), Some(w)) = (got, want) {
             assert!((g - w).abs() < 1e-5, "column {u}: {g} vs {w}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
+
+    /// Four rays traced together give each lane exactly what one ray alone gets: near-parallel
+    /// packets (camera blocks), spread-out ones, idle lanes, and shared edges of a closed grid.
+    #[test]
+    fn packets_of_four_match_single_rays_bit_for_bit(
+        centres in prop::collection::vec(v3(), 1..300),
+        offsets in prop::collection::vec((v3(), v3()), 300),
+        origin in v3(),
+        packets in prop::collection::vec((v3(), v3(), v3(), v3(), 0.0f32..1.0, 0u8..16), 24),
+    ) {
+        let mut tris: Vec<[Vec3; 3]> = centres
+            .iter()
+            .zip(&offsets)
+            .map(|(c, (p, q))| [*c, *c + 0.2 * *p, *c + 0.2 * *q])
+            .collect();
+        tris.extend(grid_cube(6).into_iter().map(|t| t.map(|v| v * 1.5)));
+        let bvh = Bvh::build(&tris);
+        let o = origin * 0.5;
+        for (d, a, b, c, spread, idle) in &packets {
+            let Some(d) = d.try_normalize() else { continue };
+            let dirs = [d, d + *spread * *a, d + *spread * *b, d + *spread * *c]
+                .map(|x| x.try_normalize().unwrap_or(d));
+            let t_max: [f32; 4] =
+                std::array::from_fn(|k| if idle & (1 << k) != 0 { 0.0 } else { 10.0 });
+            let four = bvh.cast4(o, &dirs, t_max);
+            for k in 0..4 {
+                let one = if t_max[k] > 0.0 { bvh.cast(o, dirs[k], t_max[k]) } else { None };
+                prop_assert_eq!(four[k], one, "lane {}", k);
+            }
         }
     }
 }

@@ -653,8 +653,15 @@ fn lateral_jitter_moves_points_on_the_surface_by_the_configured_pixels() {
         .iter()
         .filter(|p| p.is_valid())
         .map(|p| {
-            assert!((p.point.z - 1.0).abs() < 1e-5, "left the plane: {}", p.point);
-            ((p.point.x - p.clean.x) as f64, (p.point.y - p.clean.y) as f64)
+            assert!(
+                (p.point.z - 1.0).abs() < 1e-5,
+                "left the plane: {}",
+                p.point
+            );
+            (
+                (p.point.x - p.clean.x) as f64,
+                (p.point.y - p.clean.y) as f64,
+            )
         })
         .unzip();
     assert_eq!(dx.len(), 200_000);
