@@ -243,7 +243,7 @@ fn killed_run_resumes_to_the_same_bytes() {
         .open(&manifest)
         .unwrap();
     std::io::Write::write_all(&mut m, b"{\"index\":15,\"spl").unwrap();
-    std::fs::write(part.join("train/000015_B0_noisy.npy.tmp"), b"half").unwrap();
+    std::fs::write(part.join("train/000015_B0_noisy.npy.4242.tmp"), b"half").unwrap();
 
     let refused = generate(&part, &args(&a));
     assert_eq!(

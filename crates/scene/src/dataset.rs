@@ -225,7 +225,7 @@ impl Dataset {
         for split in ["train", "validation"] {
             let dir = out.join(split);
             std::fs::create_dir_all(&dir).map_err(|e| unusable(e.to_string()))?;
-            remove_stale_temporaries(&dir)?;
+            remove_stale_temporaries(&dir, self.shard)?;
         }
         Ok(rows)
     }
@@ -394,11 +394,17 @@ fn read_rows(path: &Path) -> Result<Vec<Row>> {
     Ok(rows.into_values().collect())
 }
 
-/// Removes temporary files a killed run left behind.
-fn remove_stale_temporaries(dir: &Path) -> Result<()> {
+/// Removes the temporary files a killed run of this shard left behind (those of other shards
+/// sharing the folder may be in flight).
+fn remove_stale_temporaries(dir: &Path, shard: Shard) -> Result<()> {
     for entry in std::fs::read_dir(dir).map_err(Error::io(dir))? {
         let path = entry.map_err(Error::io(dir))?.path();
-        if path.extension().is_some_and(|e| e == "tmp") {
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default();
+        let index = name.split('_').next().and_then(|i| i.parse::<u64>().ok());
+        if name.ends_with(".tmp") && index.is_some_and(|i| i % shard.count == shard.part) {
             std::fs::remove_file(&path).map_err(Error::io(&path))?;
         }
     }

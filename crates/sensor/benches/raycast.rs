@@ -1,4 +1,4 @@
-//! Ray-caster throughput and a full Zivid 2+ frame, on the scene of `bench/raycast_peers.py`: a
+//! Ray-caster throughput (single rays and 2×2 packets) and a full Zivid 2+ frame, on the scene of `bench/raycast_peers.py`: a
 //! tessellated sphere resting on a plane, about 200k and 2M triangles, seen from 1 m above by a
 //! 1944 x 1200 pinhole camera, on all threads. (`bench/raycast_peers.py` times Open3D on the
 //! same rays.)
@@ -38,13 +38,19 @@ fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
 const W: usize = 1944;
 const H: usize = 1200;
 
+/// The camera's rays in 2×2 pixel blocks, blocks row by row (the order a scan casts them in).
 fn camera_rays() -> Vec<Vec3> {
     let f = 1500.0;
     (0..W * H)
         .map(|k| {
+            let (block, lane) = (k / 4, k % 4);
+            let (u, v) = (
+                2 * (block % (W / 2)) + lane % 2,
+                2 * (block / (W / 2)) + lane / 2,
+            );
             Vec3::new(
-                ((k % W) as f32 - W as f32 / 2.0) / f,
-                ((k / W) as f32 - H as f32 / 2.0) / f,
+                (u as f32 - W as f32 / 2.0) / f,
+                (v as f32 - H as f32 / 2.0) / f,
                 -1.0,
             )
             .normalize()
@@ -69,6 +75,21 @@ fn raycast(c: &mut Criterion) {
                         rs.iter()
                             .filter(|d| bvh.cast(eye, **d, 10.0).is_some())
                             .count()
+                    })
+                    .sum::<usize>()
+            })
+        });
+        g.bench_function(format!("primary_packets_{label}"), |b| {
+            b.iter(|| {
+                rays.par_chunks(4096)
+                    .map(|rs| {
+                        rs.chunks_exact(4)
+                            .map(|d| {
+                                let d = [d[0], d[1], d[2], d[3]];
+                                let hits = bvh.cast4(eye, &d, [10.0; 4]);
+                                hits.iter().filter(|h| h.is_some()).count()
+                            })
+                            .sum::<usize>()
                     })
                     .sum::<usize>()
             })

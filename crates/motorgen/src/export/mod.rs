@@ -116,9 +116,11 @@ pub fn write_atomic(
     path: &Path,
     body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
+    // the process id keeps processes writing the same file (shards sharing a folder) apart
     let tmp = path.with_extension(format!(
-        "{}.tmp",
-        path.extension().and_then(|e| e.to_str()).unwrap_or("")
+        "{}.{}.tmp",
+        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
+        std::process::id()
     ));
     let result = (|| {
         let mut w = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
