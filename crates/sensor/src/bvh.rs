@@ -255,6 +255,32 @@ impl Bvh {
         hit
     }
 
+    /// [`Bvh::occluded`] for four rays from one origin, traced together; lanes with
+    /// `t_max <= 0` are idle (and not occluded). A lane stops at its first hit.
+    pub fn occluded4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [bool; 4] {
+        let rays = dirs.map(|d| ShearedRay::new(origin, d));
+        let packet = RayPacket::new(origin, &rays);
+        let mut blocked = [false; 4];
+        self.walk4(origin, dirs, t_max, |mut mask, slot, reach| {
+            let tri = &self.tris[slot as usize];
+            let simd = packet.as_ref().map(|p| p.intersect(tri, mask));
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let hit = match &simd {
+                    Some((found, t, ..)) if found & (1 << lane) != 0 => t[lane] < t_max[lane],
+                    Some((.., exact)) if exact & (1 << lane) != 0 => false,
+                    _ => rays[lane].intersect(tri, t_max[lane]).is_some(),
+                };
+                if hit {
+                    blocked[lane] = true;
+                    reach[lane] = -1.0; // done: the lane enters no more boxes
+                }
+            }
+        });
+        blocked
+    }
+
     /// (nodes visited, triangles tested) along a ray: traversal cost, for diagnostics.
     pub fn cost(&self, origin: Vec3, dir: Vec3, t_max: f32) -> (u32, u32) {
         let ray = ShearedRay::new(origin, dir);

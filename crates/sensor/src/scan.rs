@@ -4,6 +4,7 @@ use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
 use crate::noise::{PixelRng, stream};
+use crate::scene::Material;
 use crate::scene::{Scene, SurfaceHit};
 use crate::sensor::{Frustum, Model, SensorSpec};
 
@@ -156,13 +157,24 @@ fn scan_pixels(
                     }
                 }
                 let hits = scene.cast4(origin, &dirs, t_max);
-                for i in 0..4 {
-                    if let Some((c, r)) = at[i] {
-                        out[r * width + c] = match hits[i] {
-                            Some(hit) => measure(&setup, c, 2 * pair + r, centres[i], hit),
-                            None => Pixel::EMPTY,
-                        };
-                    }
+                // up to the light, then the four shadow rays together, then the rest
+                let lit: [Option<Result<Lit, Pixel>>; 4] = std::array::from_fn(|i| {
+                    let (c, r) = at[i]?;
+                    Some(match hits[i] {
+                        Some(hit) => illuminate(&setup, c, 2 * pair + r, centres[i], hit),
+                        None => Err(Pixel::EMPTY),
+                    })
+                });
+                let shadows = setup.shadowed(&lit);
+                for (i, lit) in lit.into_iter().enumerate() {
+                    let (Some((c, r)), Some(lit)) = (at[i], lit) else {
+                        continue;
+                    };
+                    out[r * width + c] = match lit {
+                        Ok(lit) if shadows[i] => lit.labelled,
+                        Ok(lit) => finish(&setup, lit),
+                        Err(px) => px,
+                    };
                 }
             }
         });
@@ -200,22 +212,63 @@ struct Setup<'a> {
     bias: (f32, f32),
 }
 
-/// Measures one pixel whose centre ray (camera frame) hit `hit`.
-fn measure(setup: &Setup, col: usize, row: usize, centre: Vec3, hit: SurfaceHit) -> Pixel {
+impl Setup<'_> {
+    /// Which of a block's lit points lie in the projector's shadow, tested as one packet.
+    fn shadowed(&self, lit: &[Option<Result<Lit, Pixel>>; 4]) -> [bool; 4] {
+        let query = |i: usize| match &lit[i] {
+            Some(Ok(Lit {
+                shadow: Some(s), ..
+            })) => Some(*s),
+            _ => None,
+        };
+        if (0..4).all(|i| query(i).is_none()) {
+            return [false; 4];
+        }
+        let projector = self.sensor.projector().map_or(Vec3::ZERO, |p| p.centre());
+        let from = self.pose.transform_point3(projector);
+        let dirs = std::array::from_fn(|i| query(i).map_or(Vec3::Z, |s| s.0));
+        let t_max = std::array::from_fn(|i| query(i).map_or(0.0, |s| s.1));
+        self.scene.occluded4(from, &dirs, t_max)
+    }
+}
+
+/// A pixel measured up to its illumination: what [`finish`] needs once the projector's
+/// visibility is known.
+struct Lit {
+    /// The pixel with its exact point and labels, and no measured point.
+    labelled: Pixel,
+    /// Direction of the (possibly jittered) sampling ray, camera frame.
+    dir: Vec3,
+    /// Range along it.
+    range: f32,
+    /// Unit direction to the light, camera frame, and the distance to it.
+    light: (Vec3, f32),
+    /// The shadow ray, world frame, towards the surface from the projector: direction and
+    /// length (none for sensors that light from the camera).
+    shadow: Option<(Vec3, f32)>,
+    material: Material,
+    rng: PixelRng,
+}
+
+/// Measures one pixel whose centre ray (camera frame) hit `hit`, up to its illumination; a
+/// pixel that can have no point is returned as it stands.
+fn illuminate(
+    setup: &Setup,
+    col: usize,
+    row: usize,
+    centre: Vec3,
+    hit: SurfaceHit,
+) -> Result<Lit, Pixel> {
     let Setup {
         sensor,
         frustum,
         pose,
         seed,
-        bias,
-        scene,
         ..
     } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
     let rng = PixelRng::new(seed, (row * k.width as usize + col) as u64);
-    let origin = Vec3::from(pose.translation);
-    let to_world = |d: Vec3| pose.transform_vector3(d);
     let to_camera = |d: Vec3| pose.matrix3.transpose() * glam::Vec3A::from(d);
     let normal = Vec3::from(to_camera(hit.normal));
     let px = Pixel {
@@ -229,57 +282,81 @@ fn measure(setup: &Setup, col: usize, row: usize, centre: Vec3, hit: SurfaceHit)
 
     // where this pixel actually samples: its centre, or a laterally jittered position on the
     // tangent plane of the surface it sees
-    let (dir, mut range) = if noise.lateral_px > 0.0 {
+    let (dir, range) = if noise.lateral_px > 0.0 {
         let du = noise.lateral_px * rng.normal(stream::LATERAL);
         let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
         let d = k.ray(col as f64 + du as f64, row as f64 + dv as f64);
         let facing = normal.dot(d);
         if facing.abs() < 1e-6 {
-            return px; // grazing: the jittered ray runs along the surface
+            return Err(px); // grazing: the jittered ray runs along the surface
         }
         (d, normal.dot(px.clean) / facing)
     } else {
         (centre, hit.t)
     };
     if range.is_nan() || range < sensor.min_range {
-        return px;
+        return Err(px);
     }
     let point = dir * range;
-    let mut measured = px;
 
     // illumination: the projector, or the camera itself
-    let (light_dir, light_range) = match (sensor.projector(), frustum) {
+    let (light, shadow) = match (sensor.projector(), frustum) {
         (Some(projector), Some(frustum)) => {
             if !frustum.lights(point) {
-                return px;
+                return Err(px);
             }
             let to_light = projector.centre() - point;
-            let range = to_light.length();
-            let l = to_light / range;
-            if measured.normal.dot(l) <= 0.0 {
-                return px; // self-shadowed: the surface faces away from the projector
+            let distance = to_light.length();
+            let l = to_light / distance;
+            if normal.dot(l) <= 0.0 {
+                return Err(px); // self-shadowed: the surface faces away from the projector
             }
-            let from = origin + to_world(projector.centre());
-            let gap = (range * 1e-4).max(1e-5);
-            if scene.occluded(from, to_world(-l), range - gap) {
-                return px; // projector shadow
-            }
-            (l, range)
+            let gap = (distance * 1e-4).max(1e-5);
+            (
+                (l, distance),
+                Some((pose.transform_vector3(-l), distance - gap)),
+            )
         }
-        _ => (-dir, range),
+        _ => ((-dir, range), None),
     };
+    Ok(Lit {
+        labelled: px,
+        dir,
+        range,
+        light,
+        shadow,
+        material: hit.material,
+        rng,
+    })
+}
+
+/// The measured pixel of a lit surface point (its shadow ray, if any, unblocked): signal,
+/// dropouts and range noise.
+fn finish(setup: &Setup, lit: Lit) -> Pixel {
+    let Setup { sensor, bias, .. } = *setup;
+    let k = &sensor.intrinsics;
+    let noise = &sensor.noise;
+    let Lit {
+        labelled: px,
+        dir,
+        mut range,
+        light: (light_dir, light_range),
+        material,
+        rng,
+        ..
+    } = lit;
+    let mut measured = px;
     let cos_light = measured.normal.dot(light_dir).max(0.0);
-    let signal =
-        hit.material.reflectivity * cos_light * (sensor.reference_range / light_range).powi(2);
+    let signal = material.reflectivity * cos_light * (sensor.reference_range / light_range).powi(2);
     measured.intensity = signal;
 
     if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
         return px;
     }
-    if noise.specular.probability > 0.0 && hit.material.specular > 0.0 {
+    if noise.specular.probability > 0.0 && material.specular > 0.0 {
         let half = (light_dir - dir).normalize();
-        if measured.normal.dot(half).clamp(-1.0, 1.0).acos() < hit.material.lobe
-            && rng.uniform(stream::SPECULAR) < noise.specular.probability * hit.material.specular
+        if measured.normal.dot(half).clamp(-1.0, 1.0).acos() < material.lobe
+            && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
         {
             return px;
         }

@@ -145,6 +145,13 @@ impl Scene {
         out
     }
 
+    /// Whether any surface lies on each of four unit rays from one origin within its `t_max`,
+    /// traced together; lanes with `t_max <= 0` are idle (and not occluded).
+    #[inline]
+    pub fn occluded4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [bool; 4] {
+        self.bvh.occluded4(origin, dirs, t_max)
+    }
+
     /// Whether any surface lies on the unit ray within `t_max`.
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {

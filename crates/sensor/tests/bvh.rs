@@ -288,7 +288,8 @@ fn centre_row_rays_on_an_f64_tessellated_sphere_match_brute_force() {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
 
-    /// Four rays traced together give each lane exactly what one ray alone gets: near-parallel
+    /// Four rays traced together give each lane exactly what one ray alone gets (closest hit and
+    /// occlusion): near-parallel
     /// packets (camera blocks), spread-out ones, idle lanes, and shared edges of a closed grid.
     #[test]
     fn packets_of_four_match_single_rays_bit_for_bit(
@@ -312,6 +313,16 @@ proptest! {
             let t_max: [f32; 4] =
                 std::array::from_fn(|k| if idle & (1 << k) != 0 { 0.0 } else { 10.0 });
             let four = bvh.cast4(o, &dirs, t_max);
+            // occlusion just short of and just past each lane's closest hit
+            for scale in [0.5, 0.999, 1.001] {
+                let reach: [f32; 4] =
+                    std::array::from_fn(|k| four[k].map_or(t_max[k], |h| h.t * scale));
+                let blocked = bvh.occluded4(o, &dirs, reach);
+                for k in 0..4 {
+                    let one = reach[k] > 0.0 && bvh.occluded(o, dirs[k], reach[k]);
+                    prop_assert_eq!(blocked[k], one, "occlusion, lane {}, scale {}", k, scale);
+                }
+            }
             for k in 0..4 {
                 let one = if t_max[k] > 0.0 { bvh.cast(o, dirs[k], t_max[k]) } else { None };
                 prop_assert_eq!(four[k], one, "lane {}", k);
