@@ -12,16 +12,7 @@ import tomllib
 import numpy as np
 import open3d as o3d
 
-passed = failed = 0
-
-
-def check(name, ok, detail=""):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAILED {name} {detail}")
+from checks import check, report
 
 
 def main(root, n):
@@ -67,9 +58,8 @@ def main(root, n):
         on_disk.update(f"{split}/{f}" for f in os.listdir(f"{root}/{split}"))
     check("manifest lists every file", on_disk == listed, on_disk ^ listed)
     check("every class appears", np.all(seen > 0), seen)
-    print(f"{passed} checks passed, {failed} failed")
-    sys.exit(1 if failed else 0)
+    return report("dataset readers")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], int(sys.argv[2]))
+    sys.exit(main(sys.argv[1], int(sys.argv[2])))

@@ -9,16 +9,7 @@ import sys
 import numpy as np
 import open3d as o3d
 
-passed = failed = 0
-
-
-def check(name, ok, detail=""):
-    global passed, failed
-    if ok:
-        passed += 1
-    else:
-        failed += 1
-        print(f"FAILED {name} {detail}")
+from checks import check, report
 
 
 def main(scan_dir, motor_dir):
@@ -71,8 +62,7 @@ def main(scan_dir, motor_dir):
     ply = o3d.io.read_triangle_mesh(f"{motor_dir}/motor.ply")
     check("motor.ply triangles match attributes.json", len(ply.triangles) == total, f"{len(ply.triangles)} vs {total}")
 
-    print(f"python readers: {passed} passed, {failed} failed")
-    return 1 if failed else 0
+    return report("python readers")
 
 
 if __name__ == "__main__":

@@ -327,8 +327,7 @@ impl Bvh {
         ];
         let i = [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)];
         let widen = Vec4::splat(1.0 + 2.0 * GAMMA3);
-        let mut stack = [(0u32, 0.0f32); STACK];
-        let mut sp = 0;
+        let mut stack = Stack::new();
         let mut visited = 0;
         let mut cur = self.root;
         loop {
@@ -348,8 +347,7 @@ impl Bvh {
             let mut mask = near.cmple(far).bitmask();
             let near = near.to_array(); // array lanes: glam's Vec4 indexing is a branchy match
             // the entered children, nearest first; leaves are tested on the spot
-            let mut entered = [(0u32, 0.0f32); 4];
-            let mut count = 0;
+            let mut entered = Entered::default();
             while mask != 0 {
                 let lane = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
@@ -359,42 +357,16 @@ impl Bvh {
                         best = hit;
                     }
                 } else {
-                    let mut j = count;
-                    while j > 0 && entered[j - 1].1 > t {
-                        entered[j] = entered[j - 1];
-                        j -= 1;
-                    }
-                    entered[j] = (code, t);
-                    count += 1;
+                    entered.insert(code, t);
                 }
             }
             if best <= 0.0 {
                 return visited;
             }
-            // go to the nearest child still in reach, defer the others (farthest deepest)
-            let mut next = None;
-            for &(code, t) in entered[..count].iter().rev() {
-                if t > best {
-                    continue;
-                }
-                if let Some(deferred) = next.replace((code, t)) {
-                    stack[sp] = deferred;
-                    sp += 1;
-                }
+            match stack.next(&entered, best) {
+                Some(code) => cur = code,
+                None => return visited,
             }
-            cur = match next {
-                Some((code, _)) => code,
-                None => loop {
-                    if sp == 0 {
-                        return visited;
-                    }
-                    sp -= 1;
-                    let (code, t) = stack[sp];
-                    if t <= best {
-                        break code;
-                    }
-                },
-            };
         }
     }
 
@@ -429,13 +401,11 @@ impl Bvh {
         let i = [inv(0), inv(1), inv(2)];
         let o = origin.to_array();
         let widen = Vec4::splat(1.0 + 2.0 * GAMMA3);
-        let mut stack = [(0u32, 0.0f32); STACK];
-        let mut sp = 0;
+        let mut stack = Stack::new();
         let mut cur = self.root;
         loop {
             let n = &self.nodes[cur as usize];
-            let mut entered = [(0u32, 0.0f32); 4];
-            let mut count = 0;
+            let mut entered = Entered::default();
             for c in 0..4 {
                 let code = n.child[c];
                 if code == EMPTY {
@@ -461,42 +431,80 @@ impl Bvh {
                     leaf(mask, code & !LEAF, &mut b);
                     best = Vec4::from(b);
                 } else {
-                    let t = Vec4::select(entering, near, Vec4::INFINITY).min_element();
-                    let mut j = count;
-                    while j > 0 && entered[j - 1].1 > t {
-                        entered[j] = entered[j - 1];
-                        j -= 1;
-                    }
-                    entered[j] = (code, t);
-                    count += 1;
+                    entered.insert(
+                        code,
+                        Vec4::select(entering, near, Vec4::INFINITY).min_element(),
+                    );
                 }
             }
-            // the nearest child next, the others deferred (farthest deepest)
-            let reach = best.max_element();
-            let mut next = None;
-            for &(code, t) in entered[..count].iter().rev() {
-                if t > reach {
-                    continue;
-                }
-                if let Some(deferred) = next.replace((code, t)) {
-                    stack[sp] = deferred;
-                    sp += 1;
-                }
+            match stack.next(&entered, best.max_element()) {
+                Some(code) => cur = code,
+                None => return,
             }
-            cur = match next {
-                Some((code, _)) => code,
-                None => loop {
-                    if sp == 0 {
-                        return;
-                    }
-                    sp -= 1;
-                    let (code, t) = stack[sp];
-                    if t <= best.max_element() {
-                        break code;
-                    }
-                },
-            };
         }
+    }
+}
+
+/// The children a walk entered at one node, nearest first: (child code, entry distance).
+#[derive(Default)]
+struct Entered {
+    items: [(u32, f32); 4],
+    count: usize,
+}
+
+impl Entered {
+    #[inline(always)]
+    fn insert(&mut self, code: u32, t: f32) {
+        let mut j = self.count;
+        while j > 0 && self.items[j - 1].1 > t {
+            self.items[j] = self.items[j - 1];
+            j -= 1;
+        }
+        self.items[j] = (code, t);
+        self.count += 1;
+    }
+}
+
+/// The nodes a walk deferred, with their entry distances.
+struct Stack {
+    items: [(u32, f32); STACK],
+    len: usize,
+}
+
+impl Stack {
+    fn new() -> Stack {
+        Stack {
+            items: [(0, 0.0); STACK],
+            len: 0,
+        }
+    }
+
+    /// The next node to visit: the nearest entered child within `reach` (the others deferred,
+    /// the farthest deepest), else the latest deferred node still within `reach`; `None` when
+    /// the walk is over.
+    #[inline(always)]
+    fn next(&mut self, entered: &Entered, reach: f32) -> Option<u32> {
+        let mut next = None;
+        for &(code, t) in entered.items[..entered.count].iter().rev() {
+            if t > reach {
+                continue;
+            }
+            if let Some(deferred) = next.replace((code, t)) {
+                self.items[self.len] = deferred;
+                self.len += 1;
+            }
+        }
+        if let Some((code, _)) = next {
+            return Some(code);
+        }
+        while self.len > 0 {
+            self.len -= 1;
+            let (code, t) = self.items[self.len];
+            if t <= reach {
+                return Some(code);
+            }
+        }
+        None
     }
 }
 
