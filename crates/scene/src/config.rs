@@ -593,23 +593,33 @@ impl Config {
         Ok(config)
     }
 
-    /// The motor parameter space of this configuration.
-    pub fn param_space(&self) -> Result<ParamSpace> {
-        ParamSpace::from_toml(&self.motor.params)
-            .map_err(|e| Error::Config(format!("motor.params: {e}")))
+    /// The motor parameter space of each variant, in `motor.variants` order (one space, the
+    /// parameters' own, when no variants are listed).
+    pub fn param_spaces(&self) -> Result<Vec<ParamSpace>> {
+        let base = ParamSpace::from_toml(&self.motor.params)
+            .map_err(|e| Error::Config(format!("motor.params: {e}")))?;
+        if self.motor.variants.is_empty() {
+            return Ok(vec![base]);
+        }
+        self.motor
+            .variants
+            .iter()
+            .map(|v| {
+                let mut space = base.clone();
+                for (key, value) in v.params() {
+                    space
+                        .set(key, motorgen::Dist::from_cli(key, value)?)
+                        .map_err(|e| Error::Config(format!("motor.variants {v:?}: {e}")))?;
+                }
+                Ok(space)
+            })
+            .collect()
     }
 
     /// Checks every value against what it allows.
     pub fn check(&self) -> Result<()> {
         let m = &self.motor;
-        let mut space = self.param_space()?;
-        for v in &m.variants {
-            for (key, value) in v.params() {
-                space
-                    .set(key, motorgen::Dist::from_cli(key, value)?)
-                    .map_err(|e| Error::Config(format!("motor.variants {v:?}: {e}")))?;
-            }
-        }
+        self.param_spaces()?;
         share("motor.cover_removed", m.cover_removed)?;
         if m.cover_removed > 0.0 && self.output.scheme != Scheme::InnerParts {
             return Err(Error::invalid(

@@ -178,11 +178,6 @@ impl Dataset {
         &self.recipes[(index % self.recipes.len() as u64) as usize]
     }
 
-    /// The resolved configuration as written to `config.toml`.
-    pub fn resolved(&self) -> &str {
-        &self.resolved
-    }
-
     fn manifest(&self) -> PathBuf {
         self.out.join(self.shard.manifest_name())
     }

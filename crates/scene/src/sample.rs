@@ -3,7 +3,7 @@
 
 use glam::{Affine3A, Mat4, Vec3};
 use motorgen::kernel::Aabb;
-use motorgen::{Dist, Motor, ParamSpace, build, derive_seed};
+use motorgen::{Motor, ParamSpace, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sensor::{PointCloud, Region, Scan, Scene, SensorSpec, scan, scan_within};
@@ -50,23 +50,7 @@ impl Recipe {
     /// Checks `config` and prepares its parameter spaces and sensor.
     pub fn new(config: Config, sweep: Vec<(String, toml::Value)>) -> Result<Recipe> {
         config.check()?;
-        let base = config.param_space()?;
-        let spaces = if config.motor.variants.is_empty() {
-            vec![base]
-        } else {
-            config
-                .motor
-                .variants
-                .iter()
-                .map(|v| {
-                    let mut s = base.clone();
-                    for (key, value) in v.params() {
-                        s.set(key, Dist::from_cli(key, value)?)?;
-                    }
-                    Ok(s)
-                })
-                .collect::<Result<_>>()?
-        };
+        let spaces = config.param_spaces()?;
         let sensor = config.sensor.resolve()?;
         Ok(Recipe {
             config,
@@ -74,11 +58,6 @@ impl Recipe {
             spaces,
             sensor,
         })
-    }
-
-    /// The sensor, binning applied, before the per-sample noise scale.
-    pub fn sensor(&self) -> &SensorSpec {
-        &self.sensor
     }
 }
 
