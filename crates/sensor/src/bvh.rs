@@ -206,33 +206,20 @@ impl Bvh {
             u: 0.0,
             v: 0.0,
         });
-        let rays = dirs.map(|d| ShearedRay::new(origin, d));
-        let packet = RayPacket::new(origin, &rays);
-        self.walk4(origin, dirs, t_max, |mut mask, slot, reach| {
-            let tri = &self.tris[slot as usize];
-            // all four lanes at once where the rays share their axes, else one by one
-            let simd = packet.as_ref().map(|p| p.intersect(tri, mask));
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let hit = match &simd {
-                    Some((found, t, u, v, _)) if found & (1 << lane) != 0 => {
-                        (t[lane] < best[lane].t.next_up()).then(|| (t[lane], u[lane], v[lane]))
-                    }
-                    Some((_, _, _, _, exact)) if exact & (1 << lane) != 0 => None,
-                    _ => rays[lane].intersect(tri, best[lane].t.next_up()),
+        let rays = Rays4::new(origin, dirs);
+        self.walk4(origin, dirs, t_max, |mask, slot, reach| {
+            let limit = best.map(|b| b.t.next_up());
+            rays.hits(&self.tris[slot as usize], mask, limit, |lane, (t, u, v)| {
+                let hit = Hit {
+                    t,
+                    triangle: slot,
+                    u,
+                    v,
                 };
-                if let Some((t, u, v)) = hit
-                    && let Some(t) = best[lane].closer(Hit {
-                        t,
-                        triangle: slot,
-                        u,
-                        v,
-                    })
-                {
+                if let Some(t) = best[lane].closer(hit) {
                     reach[lane] = t;
                 }
-            }
+            });
         });
         best.map(|b| {
             (b.triangle != u32::MAX).then(|| Hit {
@@ -258,25 +245,13 @@ impl Bvh {
     /// [`Bvh::occluded`] for four rays from one origin, traced together; lanes with
     /// `t_max <= 0` are idle (and not occluded). A lane stops at its first hit.
     pub fn occluded4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [bool; 4] {
-        let rays = dirs.map(|d| ShearedRay::new(origin, d));
-        let packet = RayPacket::new(origin, &rays);
+        let rays = Rays4::new(origin, dirs);
         let mut blocked = [false; 4];
-        self.walk4(origin, dirs, t_max, |mut mask, slot, reach| {
-            let tri = &self.tris[slot as usize];
-            let simd = packet.as_ref().map(|p| p.intersect(tri, mask));
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let hit = match &simd {
-                    Some((found, t, ..)) if found & (1 << lane) != 0 => t[lane] < t_max[lane],
-                    Some((.., exact)) if exact & (1 << lane) != 0 => false,
-                    _ => rays[lane].intersect(tri, t_max[lane]).is_some(),
-                };
-                if hit {
-                    blocked[lane] = true;
-                    reach[lane] = -1.0; // done: the lane enters no more boxes
-                }
-            }
+        self.walk4(origin, dirs, t_max, |mask, slot, reach| {
+            rays.hits(&self.tris[slot as usize], mask, t_max, |lane, _| {
+                blocked[lane] = true;
+                reach[lane] = -1.0; // done: the lane enters no more boxes
+            });
         });
         blocked
     }
@@ -622,6 +597,49 @@ impl ShearedRay {
         let inv = 1.0 / det;
         let t = t_scaled * inv;
         (t > 0.0 && t < t_max).then_some((t, v * inv, w * inv))
+    }
+}
+
+/// Four rays from one origin prepared for the watertight test, one by one and, where they share
+/// their axes, together.
+struct Rays4 {
+    rays: [ShearedRay; 4],
+    simd: Option<RayPacket>,
+}
+
+impl Rays4 {
+    fn new(origin: Vec3, dirs: &[Vec3; 4]) -> Rays4 {
+        let rays = dirs.map(|d| ShearedRay::new(origin, d));
+        let simd = RayPacket::new(origin, &rays);
+        Rays4 { rays, simd }
+    }
+
+    /// Calls `hit(lane, (t, u, v))` for each lane in `mask` whose ray hits `tri` with
+    /// 0 < t < `limit[lane]`: all four lanes at once where the rays share their axes, else (and
+    /// on edges) one by one.
+    #[inline(always)]
+    fn hits(
+        &self,
+        tri: &Tri,
+        mut mask: u32,
+        limit: [f32; 4],
+        mut hit: impl FnMut(usize, (f32, f32, f32)),
+    ) {
+        let simd = self.simd.as_ref().map(|p| p.intersect(tri, mask));
+        while mask != 0 {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let found = match &simd {
+                Some((found, t, u, v, _)) if found & (1 << lane) != 0 => {
+                    (t[lane] < limit[lane]).then(|| (t[lane], u[lane], v[lane]))
+                }
+                Some((.., exact)) if exact & (1 << lane) != 0 => None,
+                _ => self.rays[lane].intersect(tri, limit[lane]),
+            };
+            if let Some(h) = found {
+                hit(lane, h);
+            }
+        }
     }
 }
 
