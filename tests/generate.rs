@@ -260,6 +260,22 @@ fn killed_run_resumes_to_the_same_bytes() {
 }
 
 #[test]
+fn a_dataset_extended_with_resume_equals_one_made_at_its_final_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let grown = dir.path().join("grown");
+    ok(&generate(&grown, &args(&small("3", &[]))));
+    ok(&generate(&grown, &args(&small("5", &["--resume"]))));
+    let fresh = dir.path().join("fresh");
+    ok(&generate(&fresh, &args(&small("5", &[]))));
+    assert_eq!(files(&grown), files(&fresh));
+    assert_eq!(rows(&grown), rows(&fresh));
+    // shrinking below what is there is refused
+    let o = generate(&grown, &args(&small("2", &["--resume"])));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("beyond the 2"));
+}
+
+#[test]
 fn bad_configurations_are_refused_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never");

@@ -192,7 +192,7 @@ impl Dataset {
         std::fs::create_dir_all(out).map_err(|e| unusable(e.to_string()))?;
         let config = out.join("config.toml");
         if let Ok(existing) = std::fs::read_to_string(&config)
-            && existing != self.resolved
+            && !same_dataset(&existing, &self.resolved)
         {
             return Err(unusable(
                 "holds a dataset of another configuration (its config.toml differs); choose \
@@ -203,8 +203,14 @@ impl Dataset {
         let rows = read_rows(&self.manifest())?;
         if !rows.is_empty() && !resume {
             return Err(unusable(format!(
-                "already holds {} samples of this dataset; pass --resume to finish it",
+                "already holds {} samples of this dataset; pass --resume to finish or extend it",
                 rows.len()
+            )));
+        }
+        if let Some(last) = rows.last().filter(|r| r.index >= self.samples) {
+            return Err(unusable(format!(
+                "holds sample {}, beyond the {} asked for",
+                last.index, self.samples
             )));
         }
         save(&config, &|w| w.write_all(self.resolved.as_bytes()))
@@ -343,6 +349,18 @@ impl Dataset {
             class_counts,
         })
     }
+}
+
+/// Whether two resolved configurations make the same samples: equal but for `samples` (sample i
+/// does not depend on how many there are, so a dataset can be extended).
+fn same_dataset(a: &str, b: &str) -> bool {
+    let parse = |t: &str| {
+        toml::from_str::<toml::Table>(t).ok().map(|mut t| {
+            t.remove("samples");
+            t
+        })
+    };
+    parse(a).is_some_and(|a| Some(a) == parse(b))
 }
 
 fn to_toml_int(n: u64) -> Result<i64> {
