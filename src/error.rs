@@ -30,3 +30,18 @@ impl From<motorgen::Error> for CliError {
 
 /// Result with [`CliError`].
 pub type CliResult<T> = Result<T, CliError>;
+
+/// The value of the option named `value` among `options`, or a usage error listing them.
+pub fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> CliResult<T> {
+    options
+        .iter()
+        .find(|(name, _)| *name == value)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
+            CliError::Usage(format!(
+                "--{flag} \"{value}\" is not allowed: expected one of {}",
+                names.join(", ")
+            ))
+        })
+}

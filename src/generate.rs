@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::Args;
 use scene::{Dataset, Shard, overlay, parse_value, set_key};
 
-use crate::error::{CliError, CliResult};
+use crate::error::{CliError, CliResult, choice};
 use crate::progress::Progress;
 
 /// The configurations shipped in `configs/`, built into the binary.
@@ -71,7 +71,7 @@ impl ConfigCmd {
     pub fn run(&self) -> CliResult<()> {
         match (&self.print, self.list) {
             (Some(name), _) => {
-                print!("{}", builtin(name)?);
+                print!("{}", choice("print", name, &CONFIGS)?);
                 Ok(())
             }
             (None, true) => {
@@ -85,20 +85,6 @@ impl ConfigCmd {
     }
 }
 
-fn builtin(name: &str) -> CliResult<&'static str> {
-    CONFIGS
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, text)| *text)
-        .ok_or_else(|| {
-            let names: Vec<&str> = CONFIGS.iter().map(|(n, _)| *n).collect();
-            CliError::Usage(format!(
-                "unknown built-in configuration \"{name}\": expected one of {}",
-                names.join(", ")
-            ))
-        })
-}
-
 fn scene_error(e: scene::Error) -> CliError {
     if e.is_usage() {
         CliError::Usage(e.to_string())
@@ -110,14 +96,16 @@ fn scene_error(e: scene::Error) -> CliError {
 impl GenerateCmd {
     /// Reads the configuration and applies `--set`.
     fn table(&self) -> CliResult<toml::Table> {
-        let (text, name) = match &self.config {
-            None => (scene::DEFAULT_CONFIG.to_string(), "default".to_string()),
-            Some(c) if CONFIGS.iter().any(|(n, _)| n == c) => (builtin(c)?.to_string(), c.clone()),
-            Some(path) => (
-                std::fs::read_to_string(path)
-                    .map_err(|e| CliError::Usage(format!("config {path}: {e}")))?,
-                path.clone(),
-            ),
+        let (text, name) = match self.config.as_deref() {
+            None => (scene::DEFAULT_CONFIG.to_string(), "default"),
+            Some(c) => match CONFIGS.iter().find(|(n, _)| *n == c) {
+                Some((_, text)) => (text.to_string(), c),
+                None => (
+                    std::fs::read_to_string(c)
+                        .map_err(|e| CliError::Usage(format!("config {c}: {e}")))?,
+                    c,
+                ),
+            },
         };
         let top: toml::Table =
             toml::from_str(&text).map_err(|e| CliError::Usage(format!("config {name}: {e}")))?;

@@ -10,7 +10,7 @@ use motorgen::export::write_atomic;
 use sensor::formats::*;
 use sensor::{Frame, Scene, SensorSpec, Units, look_at, scan};
 
-use crate::error::{CliError, CliResult};
+use crate::error::{CliError, CliResult, choice};
 use crate::meshio::read_targets;
 
 /// Scan meshes with a simulated depth sensor and write the cloud and images.
@@ -64,20 +64,6 @@ fn numbers(flag: &str, text: &str, n: usize) -> CliResult<Vec<f32>> {
         )));
     }
     Ok(v)
-}
-
-fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> CliResult<T> {
-    options
-        .iter()
-        .find(|(name, _)| *name == value)
-        .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
-            CliError::Usage(format!(
-                "--{flag} \"{value}\" is not allowed: expected one of {}",
-                names.join(", ")
-            ))
-        })
 }
 
 /// A preset name or a TOML sensor file.

@@ -26,6 +26,18 @@ fn assert_refused(cases: &[(Vec<&str>, &str)], out: &Path) {
     }
 }
 
+/// A coarse default motor written by `motor` with `args` into `parent/m`.
+fn coarse_motor(parent: &Path, args: &[&str]) -> std::path::PathBuf {
+    let m = parent.join("m");
+    let o = run(&[
+        &["motor", "--detail", "coarse", "--out", m.to_str().unwrap()],
+        args,
+    ]
+    .concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    m
+}
+
 /// Every file below `dir`, by relative path.
 fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     let mut out = BTreeMap::new();
@@ -229,20 +241,7 @@ fn params_lists_every_parameter() {
 #[test]
 fn scan_of_a_motor_keeps_its_labels() {
     let dir = tempfile::tempdir().unwrap();
-    let m = dir.path().join("m");
-    assert!(
-        run(&[
-            "motor",
-            "--format",
-            "ply,stl",
-            "--detail",
-            "coarse",
-            "--out",
-            m.to_str().unwrap()
-        ])
-        .status
-        .success()
-    );
+    let m = coarse_motor(dir.path(), &["--format", "ply,stl"]);
     let scan_to = |name: &str| {
         let out = dir.path().join(name);
         let o = run(&[
@@ -494,21 +493,7 @@ fn readme_sensor_example_is_a_valid_sensor() {
 #[test]
 fn scan_files_are_identical_for_one_and_two_threads() {
     let dir = tempfile::tempdir().unwrap();
-    let m = dir.path().join("m");
-    assert!(
-        run(&[
-            "motor",
-            "--format",
-            "ply",
-            "--detail",
-            "coarse",
-            "--whole-only",
-            "--out",
-            m.to_str().unwrap()
-        ])
-        .status
-        .success()
-    );
+    let m = coarse_motor(dir.path(), &["--format", "ply", "--whole-only"]);
     let scan_with = |threads: &str| {
         let out = dir.path().join(format!("s{threads}"));
         let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
