@@ -2,9 +2,10 @@
 //! adjacent children and leaf triangles stored in traversal order, then traversed nearest child
 //! first with a Möller–Trumbore triangle test that allocates nothing.
 
-use glam::{Vec3, Vec4};
+use glam::{BVec4A, Vec3, Vec4};
 use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh as ParryBvh, BvhBuildStrategy, TraversalAction};
+use smallvec::SmallVec;
 
 /// A node of parry's binary tree as flattened: an internal node's children are at `child` and
 /// `child + 1`; a leaf holds one triangle, `prim` (an input triangle index).
@@ -20,13 +21,12 @@ struct Node {
 const INTERNAL: u32 = u32::MAX;
 
 /// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
-/// maxima), and each child's code: an internal node index, [`LEAF`] | triangle slot, or
+/// x, y, z maxima), and each child's code: an internal node index, [`LEAF`] | triangle slot, or
 /// [`EMPTY`] (whose box is inverted, +∞ to -∞, so that no ray enters it).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct Node4 {
-    lo: [Vec4; 3],
-    hi: [Vec4; 3],
+    bounds: [Vec4; 6],
     child: [u32; 4],
 }
 
@@ -37,8 +37,14 @@ const EMPTY: u32 = u32::MAX;
 
 impl Node4 {
     const VACANT: Node4 = Node4 {
-        lo: [Vec4::INFINITY; 3],
-        hi: [Vec4::NEG_INFINITY; 3],
+        bounds: [
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+        ],
         child: [EMPTY; 4],
     };
 }
@@ -50,9 +56,9 @@ type Tri = [Vec3; 3];
 /// meshes with binned SAH.
 const PLOC_FROM: usize = 50_000;
 
-/// Traversal stack depth: a 4-wide node pushes at most 3 entries per level, and parry's trees of
-/// a few million leaves are well under 40 levels deep.
-const STACK: usize = 128;
+/// Traversal stack entries kept inline: a 4-wide node pushes at most 3 entries per level, and
+/// parry's trees of a few million leaves are well under 40 binary (20 four-wide) levels deep.
+const STACK: usize = 64;
 
 /// The closest intersection along a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -84,9 +90,8 @@ impl Hit {
 /// A bounding volume hierarchy over triangles.
 #[derive(Clone, Debug)]
 pub struct Bvh {
+    /// The 4-wide nodes, the root first (none for no triangles).
     nodes: Vec<Node4>,
-    /// Child code of the root: a node, a single leaf, or [`EMPTY`].
-    root: u32,
     tris: Vec<Tri>,
     /// Input triangle index of each leaf-ordered triangle.
     order: Vec<u32>,
@@ -97,7 +102,6 @@ impl Bvh {
     pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
         let mut bvh = Bvh {
             nodes: Vec::new(),
-            root: EMPTY,
             tris: Vec::new(),
             order: Vec::new(),
         };
@@ -116,7 +120,17 @@ impl Bvh {
         bvh.nodes.reserve(triangles.len() / 2);
         bvh.tris.reserve(triangles.len());
         bvh.order.reserve(triangles.len());
-        bvh.root = bvh.collapse(&binary, 0, triangles);
+        let root = bvh.collapse(&binary, 0, triangles);
+        if root & LEAF != 0 {
+            // a lone triangle: give it a node, so that every walk starts at node 0
+            let mut node = Node4::VACANT;
+            for axis in 0..3 {
+                node.bounds[axis].x = binary[0].min[axis];
+                node.bounds[axis + 3].x = binary[0].max[axis];
+            }
+            node.child[0] = root;
+            bvh.nodes.push(node);
+        }
         bvh
     }
 
@@ -151,8 +165,8 @@ impl Bvh {
         let mut node = Node4::VACANT;
         for (lane, &k) in kids.iter().enumerate() {
             for axis in 0..3 {
-                node.lo[axis][lane] = binary[k].min[axis];
-                node.hi[axis][lane] = binary[k].max[axis];
+                node.bounds[axis][lane] = binary[k].min[axis];
+                node.bounds[axis + 3][lane] = binary[k].max[axis];
             }
             node.child[lane] = self.collapse(binary, k, triangles);
         }
@@ -173,26 +187,7 @@ impl Bvh {
     /// The closest hit along `origin + t·dir` with `t` in (0, `t_max`); `dir` must be unit length.
     #[inline]
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
-        let mut best = Hit {
-            t: t_max,
-            triangle: u32::MAX,
-            u: 0.0,
-            v: 0.0,
-        };
-        let ray = ShearedRay::new(origin, dir);
-        self.walk(origin, dir, t_max, |tri, _| {
-            let (t, u, v) = ray.intersect(&self.tris[tri as usize], best.t.next_up())?;
-            best.closer(Hit {
-                t,
-                triangle: tri,
-                u,
-                v,
-            })
-        });
-        (best.triangle != u32::MAX).then(|| Hit {
-            triangle: self.order[best.triangle as usize],
-            ..best
-        })
+        self.cast4(origin, &[dir; 4], [t_max, 0.0, 0.0, 0.0])[0]
     }
 
     /// The closest hits of four rays from one origin (a 2×2 block of camera pixels, or shadow
@@ -206,9 +201,11 @@ impl Bvh {
             u: 0.0,
             v: 0.0,
         });
-        let rays = Rays4::new(origin, dirs);
+        let Some(rays) = Rays4::live(origin, dirs, t_max) else {
+            return [None; 4];
+        };
+        let mut limit = t_max.map(f32::next_up);
         self.walk4(origin, dirs, t_max, |mask, slot, reach| {
-            let limit = best.map(|b| b.t.next_up());
             rays.hits(&self.tris[slot as usize], mask, limit, |lane, (t, u, v)| {
                 let hit = Hit {
                     t,
@@ -218,6 +215,7 @@ impl Bvh {
                 };
                 if let Some(t) = best[lane].closer(hit) {
                     reach[lane] = t;
+                    limit[lane] = t.next_up();
                 }
             });
         });
@@ -232,20 +230,15 @@ impl Bvh {
     /// Whether anything lies on `origin + t·dir` for `t` in (0, `t_max`).
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
-        let ray = ShearedRay::new(origin, dir);
-        let mut hit = false;
-        self.walk(origin, dir, t_max, |tri, best_t| {
-            let blocked = ray.intersect(&self.tris[tri as usize], best_t).is_some();
-            hit |= blocked;
-            blocked.then_some(0.0) // a closest distance of 0 ends the walk
-        });
-        hit
+        self.occluded4(origin, &[dir; 4], [t_max, 0.0, 0.0, 0.0])[0]
     }
 
     /// [`Bvh::occluded`] for four rays from one origin, traced together; lanes with
     /// `t_max <= 0` are idle (and not occluded). A lane stops at its first hit.
     pub fn occluded4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [bool; 4] {
-        let rays = Rays4::new(origin, dirs);
+        let Some(rays) = Rays4::live(origin, dirs, t_max) else {
+            return [false; 4];
+        };
         let mut blocked = [false; 4];
         self.walk4(origin, dirs, t_max, |mask, slot, reach| {
             rays.hits(&self.tris[slot as usize], mask, t_max, |lane, _| {
@@ -258,96 +251,27 @@ impl Bvh {
 
     /// (nodes visited, triangles tested) along a ray: traversal cost, for diagnostics.
     pub fn cost(&self, origin: Vec3, dir: Vec3, t_max: f32) -> (u32, u32) {
-        let ray = ShearedRay::new(origin, dir);
+        let (dirs, t_max) = (&[dir; 4], [t_max, 0.0, 0.0, 0.0]);
+        let Some(rays) = Rays4::live(origin, dirs, t_max) else {
+            return (0, 0);
+        };
         let mut leaves = 0;
-        let nodes = self.walk(origin, dir, t_max, |tri, best_t| {
+        let mut limit = t_max.map(f32::next_up);
+        let nodes = self.walk4(origin, dirs, t_max, |mask, slot, reach| {
             leaves += 1;
-            ray.intersect(&self.tris[tri as usize], best_t).map(|h| h.0)
+            rays.hits(&self.tris[slot as usize], mask, limit, |lane, (t, ..)| {
+                reach[lane] = t;
+                limit[lane] = t.next_up();
+            });
         });
         (nodes, leaves)
     }
 
-    /// Visits the leaves along the ray, nearest box first; `leaf` returns the new closest
-    /// distance when its triangle is hit nearer than the current one. Returns the nodes visited.
-    #[inline(always)]
-    fn walk(
-        &self,
-        origin: Vec3,
-        dir: Vec3,
-        t_max: f32,
-        mut leaf: impl FnMut(u32, f32) -> Option<f32>,
-    ) -> u32 {
-        let mut best = t_max;
-        if self.root == EMPTY {
-            return 0;
-        }
-        if self.root & LEAF != 0 {
-            leaf(self.root & !LEAF, best);
-            return 0;
-        }
-        // no zero components: 0·∞ would poison the lanes with NaN
-        let safe = |c: f32| {
-            if c.abs() < 1e-20 {
-                1e-20f32.copysign(c)
-            } else {
-                c
-            }
-        };
-        let inv = Vec3::new(safe(dir.x), safe(dir.y), safe(dir.z)).recip();
-        let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
-        let o = [
-            Vec4::splat(origin.x),
-            Vec4::splat(origin.y),
-            Vec4::splat(origin.z),
-        ];
-        let i = [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)];
-        let widen = Vec4::splat(1.0 + 2.0 * GAMMA3);
-        let mut stack = Stack::new();
-        let mut visited = 0;
-        let mut cur = self.root;
-        loop {
-            visited += 1;
-            let n = &self.nodes[cur as usize];
-            let mut near = Vec4::ZERO;
-            let mut far = Vec4::splat(best);
-            for axis in 0..3 {
-                let (a, b) = if neg[axis] {
-                    (n.hi[axis], n.lo[axis])
-                } else {
-                    (n.lo[axis], n.hi[axis])
-                };
-                near = near.max((a - o[axis]) * i[axis]);
-                far = far.min((b - o[axis]) * i[axis] * widen);
-            }
-            let mut mask = near.cmple(far).bitmask();
-            let near = near.to_array(); // array lanes: glam's Vec4 indexing is a branchy match
-            // the entered children, nearest first; leaves are tested on the spot
-            let mut entered = Entered::default();
-            while mask != 0 {
-                let lane = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let (code, t) = (n.child[lane], near[lane]);
-                if code & LEAF != 0 {
-                    if let Some(hit) = leaf(code & !LEAF, best) {
-                        best = hit;
-                    }
-                } else {
-                    entered.insert(code, t);
-                }
-            }
-            if best <= 0.0 {
-                return visited;
-            }
-            match stack.next(&entered, best) {
-                Some(code) => cur = code,
-                None => return visited,
-            }
-        }
-    }
-
     /// The four-ray walk of [`Bvh::cast4`]: visits each node once for the whole packet, testing
-    /// its four boxes against the four rays; `leaf(lanes, slot, reach)` tests a leaf's triangle
-    /// for the lanes (bit mask) whose rays enter its box and lowers their `reach` on hits.
+    /// its four boxes at once against the cone the rays span (interval arithmetic over their
+    /// inverse directions, a superset of what each ray enters); `leaf(lanes, slot, reach)` tests
+    /// a leaf's triangle for the lanes (bit mask) still searching and lowers their `reach` on
+    /// hits (a `reach` of 0 or less ends a lane). Returns the number of nodes visited.
     #[inline(always)]
     fn walk4(
         &self,
@@ -355,70 +279,126 @@ impl Bvh {
         dirs: &[Vec3; 4],
         t_max: [f32; 4],
         mut leaf: impl FnMut(u32, u32, &mut [f32; 4]),
-    ) {
-        let mut best = Vec4::from(t_max.map(|t| if t > 0.0 { t } else { -1.0 }));
-        if self.root == EMPTY || best.max_element() <= 0.0 {
-            return;
+    ) -> u32 {
+        let mut reach = t_max.map(|t| if t > 0.0 { t } else { -1.0 });
+        let mut lanes = live_lanes(reach);
+        if self.nodes.is_empty() || lanes == 0 {
+            return 0;
         }
-        if self.root & LEAF != 0 {
-            let mask = best.cmpgt(Vec4::ZERO).bitmask();
-            leaf(mask, self.root & !LEAF, &mut best.to_array());
-            return;
-        }
-        let safe = |c: f32| {
-            if c.abs() < 1e-20 {
-                1e-20f32.copysign(c)
-            } else {
-                c
-            }
-        };
-        let inv = |axis: usize| Vec4::from(dirs.map(|d| 1.0 / safe(d.to_array()[axis])));
-        let i = [inv(0), inv(1), inv(2)];
-        let o = origin.to_array();
-        let widen = Vec4::splat(1.0 + 2.0 * GAMMA3);
+        let cone = Cone::new(origin, dirs, lanes);
         let mut stack = Stack::new();
-        let mut cur = self.root;
+        let mut cur = 0;
+        let mut visited = 0;
         loop {
+            visited += 1;
             let n = &self.nodes[cur as usize];
+            let (mut mask, near) = cone.enters(n, Vec4::from(reach).max_element());
             let mut entered = Entered::default();
-            for c in 0..4 {
+            while mask != 0 {
+                let c = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
                 let code = n.child[c];
-                if code == EMPTY {
-                    continue;
-                }
-                let mut near = Vec4::ZERO;
-                let mut far = best;
-                for axis in 0..3 {
-                    let lo: &[f32; 4] = n.lo[axis].as_ref();
-                    let hi: &[f32; 4] = n.hi[axis].as_ref();
-                    let t0 = Vec4::splat(lo[c] - o[axis]) * i[axis];
-                    let t1 = Vec4::splat(hi[c] - o[axis]) * i[axis];
-                    near = near.max(t0.min(t1));
-                    far = far.min(t0.max(t1) * widen);
-                }
-                let entering = near.cmple(far);
-                let mask = entering.bitmask();
-                if mask == 0 {
-                    continue;
-                }
-                if code & LEAF != 0 {
-                    let mut b = best.to_array();
-                    leaf(mask, code & !LEAF, &mut b);
-                    best = Vec4::from(b);
-                } else {
-                    entered.insert(
-                        code,
-                        Vec4::select(entering, near, Vec4::INFINITY).min_element(),
-                    );
+                if code & LEAF == 0 {
+                    entered.insert(code, near[c]);
+                } else if code != EMPTY {
+                    leaf(lanes, code & !LEAF, &mut reach);
+                    lanes = live_lanes(reach);
+                    if lanes == 0 {
+                        return visited;
+                    }
                 }
             }
-            match stack.next(&entered, best.max_element()) {
+            let furthest = Vec4::from(reach).max_element();
+            match stack.next(&entered, furthest * WIDEN.x) {
                 Some(code) => cur = code,
-                None => return,
+                None => return visited,
             }
         }
     }
 }
+
+/// The lanes (bit mask) whose reach or `t_max` is positive.
+#[inline(always)]
+fn live_lanes(reach: [f32; 4]) -> u32 {
+    Vec4::from(reach).cmpgt(Vec4::ZERO).bitmask()
+}
+
+/// The cone spanned by a packet of rays from one origin, as the range of their inverse
+/// direction components per axis: a box test against it admits every box any of the rays
+/// enters (products are monotonic in the inverse direction, rounding included).
+struct Cone {
+    axes: [ConeAxis; 3],
+}
+
+/// One axis of a [`Cone`].
+struct ConeAxis {
+    /// The origin's coordinate (splat).
+    origin: Vec4,
+    /// Smallest and largest inverse direction component (splats).
+    inv_lo: Vec4,
+    inv_hi: Vec4,
+    /// Which of a node's bounds the rays meet first and last (index into `Node4::bounds`).
+    near: usize,
+    far: usize,
+}
+
+impl Cone {
+    /// The cone of the rays in `lanes` (a non-empty bit mask).
+    fn new(origin: Vec3, dirs: &[Vec3; 4], lanes: u32) -> Cone {
+        let live = BVec4A::new(
+            lanes & 1 != 0,
+            lanes & 2 != 0,
+            lanes & 4 != 0,
+            lanes & 8 != 0,
+        );
+        let first = dirs[lanes.trailing_zeros() as usize].to_array();
+        let axes = std::array::from_fn(|axis| {
+            let c = Vec4::from(dirs.map(|d| d.to_array()[axis]));
+            let c = Vec4::select(live, c, Vec4::splat(first[axis]));
+            let tiny = c.abs().cmplt(Vec4::splat(TINY));
+            let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
+            let (lo, hi) = (inv.min_element(), inv.max_element());
+            let (o, lo, hi) = if lo < 0.0 && hi > 0.0 {
+                // rays both ways: the origin at -∞ makes this axis admit every finite box
+                (f32::NEG_INFINITY, -1.0, 1.0)
+            } else {
+                (origin.to_array()[axis], lo, hi)
+            };
+            let (near, far) = if hi < 0.0 {
+                (axis + 3, axis)
+            } else {
+                (axis, axis + 3)
+            };
+            ConeAxis {
+                origin: Vec4::splat(o),
+                inv_lo: Vec4::splat(lo),
+                inv_hi: Vec4::splat(hi),
+                near,
+                far,
+            }
+        });
+        Cone { axes }
+    }
+
+    /// The children of `n` some ray of the cone enters before `reach` (bit mask), and the
+    /// nearest entry distance per child.
+    #[inline(always)]
+    fn enters(&self, n: &Node4, reach: f32) -> (u32, [f32; 4]) {
+        let mut near = Vec4::ZERO;
+        let mut far = Vec4::splat(reach);
+        for a in &self.axes {
+            let d_near = n.bounds[a.near] - a.origin;
+            let d_far = n.bounds[a.far] - a.origin;
+            near = near.max((d_near * a.inv_lo).min(d_near * a.inv_hi));
+            far = far.min((d_far * a.inv_lo).max(d_far * a.inv_hi));
+        }
+        (near.cmple(far * WIDEN).bitmask(), near.to_array())
+    }
+}
+
+/// Direction components smaller than this are nudged to it (keeping their sign): 0·∞ would
+/// poison box tests with NaN.
+const TINY: f32 = 1e-20;
 
 /// The children a walk entered at one node, nearest first: (child code, entry distance).
 #[derive(Default)]
@@ -440,17 +420,16 @@ impl Entered {
     }
 }
 
-/// The nodes a walk deferred, with their entry distances.
+/// The nodes a walk deferred, with their entry distances: on the call stack for any sensible
+/// tree depth, on the heap beyond.
 struct Stack {
-    items: [(u32, f32); STACK],
-    len: usize,
+    items: SmallVec<[(u32, f32); STACK]>,
 }
 
 impl Stack {
     fn new() -> Stack {
         Stack {
-            items: [(0, 0.0); STACK],
-            len: 0,
+            items: SmallVec::new(),
         }
     }
 
@@ -465,16 +444,13 @@ impl Stack {
                 continue;
             }
             if let Some(deferred) = next.replace((code, t)) {
-                self.items[self.len] = deferred;
-                self.len += 1;
+                self.items.push(deferred);
             }
         }
         if let Some((code, _)) = next {
             return Some(code);
         }
-        while self.len > 0 {
-            self.len -= 1;
-            let (code, t) = self.items[self.len];
+        while let Some((code, t)) = self.items.pop() {
             if t <= reach {
                 return Some(code);
             }
@@ -539,6 +515,12 @@ fn flatten(parry: &ParryBvh) -> Vec<Node> {
 /// γ(3) = 3ε / (1 - 3ε): the relative error bound of three f32 operations.
 const GAMMA3: f32 = 3.0 * f32::EPSILON / (1.0 - 3.0 * f32::EPSILON);
 
+/// The factor that makes a box test's far distance (and the current closest hit it is compared
+/// with) conservative: 1 + 2γ(3) (Ize, "Robust BVH ray traversal", 2013). Scaling the closest
+/// hit too means every box holding a triangle hit at exactly that distance is entered, so ties
+/// resolve the same way (lowest slot) in any traversal order.
+const WIDEN: Vec4 = Vec4::splat(1.0 + 2.0 * GAMMA3);
+
 /// A ray prepared for the watertight test: its dominant axis becomes z, and a shear maps the
 /// direction onto +z.
 struct ShearedRay {
@@ -550,17 +532,26 @@ struct ShearedRay {
 impl ShearedRay {
     #[inline(always)]
     fn new(origin: Vec3, dir: Vec3) -> ShearedRay {
-        let kz = dir.abs().max_position();
-        let (mut kx, mut ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        let axes = ShearedRay::axes(dir);
+        let [kx, ky, kz] = axes;
         let d = dir.to_array();
-        if d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
         let shear = Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
         ShearedRay {
             origin,
-            axes: [kx, ky, kz],
+            axes,
             shear,
+        }
+    }
+
+    /// The permutation that makes the dominant axis of `dir` z (keeping the winding).
+    #[inline(always)]
+    fn axes(dir: Vec3) -> [usize; 3] {
+        let kz = dir.abs().max_position();
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        if dir.to_array()[kz] < 0.0 {
+            [ky, kx, kz]
+        } else {
+            [kx, ky, kz]
         }
     }
 
@@ -600,18 +591,29 @@ impl ShearedRay {
     }
 }
 
-/// Four rays from one origin prepared for the watertight test, one by one and, where they share
-/// their axes, together.
-struct Rays4 {
-    rays: [ShearedRay; 4],
-    simd: Option<RayPacket>,
+/// Four rays from one origin prepared for the watertight test: together in SIMD lanes where the
+/// live rays share their sheared axes (nearly always), else one by one.
+enum Rays4 {
+    Shared(RayPacket),
+    Mixed([ShearedRay; 4]),
 }
 
 impl Rays4 {
-    fn new(origin: Vec3, dirs: &[Vec3; 4]) -> Rays4 {
-        let rays = dirs.map(|d| ShearedRay::new(origin, d));
-        let simd = RayPacket::new(origin, &rays);
-        Rays4 { rays, simd }
+    /// The live rays (`t_max > 0`), or `None` if there are none; the idle lanes are never tested.
+    fn live(origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> Option<Rays4> {
+        let lanes = live_lanes(t_max);
+        (lanes != 0).then(|| Rays4::new(origin, dirs, lanes))
+    }
+
+    /// The rays in `lanes` (a non-empty bit mask).
+    fn new(origin: Vec3, dirs: &[Vec3; 4], lanes: u32) -> Rays4 {
+        let axes = ShearedRay::axes(dirs[lanes.trailing_zeros() as usize]);
+        let shared = (0..4).all(|l| lanes & (1 << l) == 0 || ShearedRay::axes(dirs[l]) == axes);
+        if shared {
+            Rays4::Shared(RayPacket::new(origin, dirs, axes))
+        } else {
+            Rays4::Mixed(dirs.map(|d| ShearedRay::new(origin, d)))
+        }
     }
 
     /// Calls `hit(lane, (t, u, v))` for each lane in `mask` whose ray hits `tri` with
@@ -621,23 +623,33 @@ impl Rays4 {
     fn hits(
         &self,
         tri: &Tri,
-        mut mask: u32,
+        mask: u32,
         limit: [f32; 4],
         mut hit: impl FnMut(usize, (f32, f32, f32)),
     ) {
-        let simd = self.simd.as_ref().map(|p| p.intersect(tri, mask));
-        while mask != 0 {
-            let lane = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            let found = match &simd {
-                Some((found, t, u, v, _)) if found & (1 << lane) != 0 => {
-                    (t[lane] < limit[lane]).then(|| (t[lane], u[lane], v[lane]))
+        match self {
+            Rays4::Shared(packet) => {
+                let (found, t, u, v, edge) = packet.intersect(tri, mask, Vec4::from(limit));
+                let mut todo = found | edge;
+                while todo != 0 {
+                    let lane = todo.trailing_zeros() as usize;
+                    todo &= todo - 1;
+                    if found & (1 << lane) != 0 {
+                        hit(lane, (t[lane], u[lane], v[lane]));
+                    } else if let Some(h) = packet.ray(lane).intersect(tri, limit[lane]) {
+                        hit(lane, h);
+                    }
                 }
-                Some((.., exact)) if exact & (1 << lane) != 0 => None,
-                _ => self.rays[lane].intersect(tri, limit[lane]),
-            };
-            if let Some(h) = found {
-                hit(lane, h);
+            }
+            Rays4::Mixed(rays) => {
+                let mut todo = mask;
+                while todo != 0 {
+                    let lane = todo.trailing_zeros() as usize;
+                    todo &= todo - 1;
+                    if let Some(h) = rays[lane].intersect(tri, limit[lane]) {
+                        hit(lane, h);
+                    }
+                }
             }
         }
     }
@@ -648,6 +660,7 @@ impl Rays4 {
 /// so that each lane gets the same bits.
 struct RayPacket {
     origin: Vec3,
+    dirs: [Vec3; 4],
     axes: [usize; 3],
     sx: Vec4,
     sy: Vec4,
@@ -655,23 +668,33 @@ struct RayPacket {
 }
 
 impl RayPacket {
-    /// The packet, if the four rays share their axes.
-    fn new(origin: Vec3, rays: &[ShearedRay; 4]) -> Option<RayPacket> {
-        rays.iter()
-            .all(|r| r.axes == rays[0].axes)
-            .then(|| RayPacket {
-                origin,
-                axes: rays[0].axes,
-                sx: Vec4::from(rays.each_ref().map(|r| r.shear.x)),
-                sy: Vec4::from(rays.each_ref().map(|r| r.shear.y)),
-                sz: Vec4::from(rays.each_ref().map(|r| r.shear.z)),
-            })
+    fn new(origin: Vec3, dirs: &[Vec3; 4], axes: [usize; 3]) -> RayPacket {
+        let component = |k: usize| Vec4::from(dirs.map(|d| d.to_array()[k]));
+        let [dx, dy, dz] = axes.map(component);
+        RayPacket {
+            origin,
+            dirs: *dirs,
+            axes,
+            sx: dx / dz,
+            sy: dy / dz,
+            sz: Vec4::ONE / dz,
+        }
     }
 
-    /// For the lanes in `mask`: (lanes hit with 0 < t, t, u, v, lanes decided here). Lanes on an
-    /// edge to f32 precision are not decided here: the scalar test settles them in f64.
+    /// Lane `lane` as a single ray, for the f64 edge test.
+    fn ray(&self, lane: usize) -> ShearedRay {
+        ShearedRay::new(self.origin, self.dirs[lane])
+    }
+
+    /// For the lanes in `mask`: (lanes hit with 0 < t < `limit`, t, u, v, lanes on an edge to
+    /// f32 precision, which the scalar test settles in f64).
     #[inline(always)]
-    fn intersect(&self, tri: &Tri, mask: u32) -> (u32, [f32; 4], [f32; 4], [f32; 4], u32) {
+    fn intersect(
+        &self,
+        tri: &Tri,
+        mask: u32,
+        limit: Vec4,
+    ) -> (u32, [f32; 4], [f32; 4], [f32; 4], u32) {
         let [kx, ky, kz] = self.axes;
         let [a, b, c] = tri.map(|v| (v - self.origin).to_array());
         let sheared = |p: [f32; 3]| {
@@ -686,23 +709,24 @@ impl RayPacket {
         let v = ax * cy - ay * cx;
         let w = bx * ay - by * ax;
         let zero = Vec4::ZERO;
-        let on_edge = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask();
+        let on_edge = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask() & mask;
         let negative = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
         let positive = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
-        let outside = (negative & positive).bitmask();
+        let inside = !(negative & positive).bitmask();
         let det = u + v + w;
         let t_scaled = u * self.sz * Vec4::splat(a[kz])
             + v * self.sz * Vec4::splat(b[kz])
             + w * self.sz * Vec4::splat(c[kz]);
         let inv = Vec4::ONE / det;
         let t = t_scaled * inv;
-        let found = (det.cmpne(zero) & t.cmpgt(zero)).bitmask() & !outside & !on_edge & mask;
+        let valid = det.cmpne(zero) & t.cmpgt(zero) & t.cmplt(limit);
+        let found = valid.bitmask() & inside & !on_edge & mask;
         (
             found,
             t.to_array(),
             (v * inv).to_array(),
             (w * inv).to_array(),
-            !on_edge & mask,
+            on_edge,
         )
     }
 }
