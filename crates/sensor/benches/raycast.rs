@@ -1,6 +1,6 @@
-//! Ray-caster throughput (single rays and 2×2 packets) and a full Zivid 2+ frame, on the scene of `bench/raycast_peers.py`: a
-//! tessellated sphere resting on a plane, about 200k and 2M triangles, seen from 1 m above by a
-//! 1944 x 1200 pinhole camera, on all threads. (`bench/raycast_peers.py` times Open3D on the
+//! Ray-caster throughput (single rays and packets of 4×4 rays) and a full Zivid 2+ frame, on the
+//! scene of `bench/raycast_peers.py`: a tessellated sphere resting on a plane, about 200k and 2M
+//! triangles, seen from 1 m above by a 1944 x 1200 pinhole camera, on all threads. (`bench/raycast_peers.py` times Open3D on the
 //! same rays.)
 
 use std::hint::black_box;
@@ -38,15 +38,16 @@ fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
 const W: usize = 1944;
 const H: usize = 1200;
 
-/// The camera's rays in 2×2 pixel blocks, blocks row by row (the order a scan casts them in).
+/// The camera's rays in the order a scan casts them: 4×4 pixel blocks row by row, each as four
+/// 2×2 groups (top left, top right, bottom left, bottom right), each group's pixels likewise.
 fn camera_rays() -> Vec<Vec3> {
     let f = 1500.0;
     (0..W * H)
         .map(|k| {
-            let (block, lane) = (k / 4, k % 4);
+            let (block, group, lane) = (k / 16, k / 4 % 4, k % 4);
             let (u, v) = (
-                2 * (block % (W / 2)) + lane % 2,
-                2 * (block / (W / 2)) + lane / 2,
+                4 * (block % (W / 4)) + 2 * (group % 2) + lane % 2,
+                4 * (block / (W / 4)) + 2 * (group / 2) + lane / 2,
             );
             Vec3::new(
                 (u as f32 - W as f32 / 2.0) / f,
@@ -83,11 +84,12 @@ fn raycast(c: &mut Criterion) {
             b.iter(|| {
                 rays.par_chunks(4096)
                     .map(|rs| {
-                        rs.chunks_exact(4)
+                        rs.chunks_exact(16)
                             .map(|d| {
-                                let d = [d[0], d[1], d[2], d[3]];
-                                let hits = bvh.cast4(eye, &d, [10.0; 4]);
-                                hits.iter().filter(|h| h.is_some()).count()
+                                let d =
+                                    std::array::from_fn(|g| std::array::from_fn(|k| d[4 * g + k]));
+                                let hits = bvh.cast_packet(eye, &d, &[[10.0; 4]; 4]);
+                                hits.iter().flatten().filter(|h| h.is_some()).count()
                             })
                             .sum::<usize>()
                     })

@@ -54,14 +54,20 @@ fn main() {
                 .zip(rays.par_chunks(4096))
                 .for_each(|(o, rs)| {
                     if packets {
-                        // 4 consecutive rays (a 2×2 block in the script's order) as one packet
-                        for (slots, rs) in o.chunks_mut(4).zip(rs.chunks(4)) {
-                            let dirs: [Vec3; 4] =
-                                std::array::from_fn(|k| rs.get(k).map_or(Vec3::Z, |r| r.1));
-                            let t_max: [f32; 4] =
-                                std::array::from_fn(|k| rs.get(k).map_or(0.0, |_| f32::INFINITY));
-                            let hits = scene.cast4(rs[0].0, &dirs, t_max);
-                            for (slot, h) in slots.iter_mut().zip(hits) {
+                        // 16 consecutive rays (a 4×4 block of 2×2 groups in the script's
+                        // order) as one packet, as a scan casts them
+                        for (slots, rs) in o.chunks_mut(16).zip(rs.chunks(16)) {
+                            let ray = |k: usize| rs.get(k).map(|r| r.1);
+                            let dirs: [[Vec3; 4]; 4] = std::array::from_fn(|g| {
+                                std::array::from_fn(|l| ray(4 * g + l).unwrap_or(Vec3::Z))
+                            });
+                            let t_max: [[f32; 4]; 4] = std::array::from_fn(|g| {
+                                std::array::from_fn(|l| {
+                                    ray(4 * g + l).map_or(0.0, |_| f32::INFINITY)
+                                })
+                            });
+                            let hits = scene.cast_packet(rs[0].0, &dirs, &t_max);
+                            for (slot, h) in slots.iter_mut().zip(hits.iter().flatten()) {
                                 *slot = match h {
                                     Some(h) => {
                                         [h.t, h.triangle as f32, h.normal.x, h.normal.y, h.normal.z]

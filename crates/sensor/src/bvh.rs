@@ -187,42 +187,56 @@ impl Bvh {
     /// The closest hit along `origin + t·dir` with `t` in (0, `t_max`); `dir` must be unit length.
     #[inline]
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
-        self.cast4(origin, &[dir; 4], [t_max, 0.0, 0.0, 0.0])[0]
+        self.cast_packet(origin, &[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]])[0][0]
     }
 
-    /// The closest hits of four rays from one origin (a 2×2 block of camera pixels, or shadow
-    /// rays from one light), traced together through the tree: each node's boxes are tested
-    /// against all four rays at once. Lanes with `t_max <= 0` are idle. Each lane gets exactly
-    /// what [`Bvh::cast`] gives it.
-    pub fn cast4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [Option<Hit>; 4] {
-        let mut best = t_max.map(|t| Hit {
-            t,
-            triangle: u32::MAX,
-            u: 0.0,
-            v: 0.0,
+    /// The closest hits of a packet of rays from one origin (camera pixels, or shadow rays from
+    /// one light), `G` groups of four, traced together through the tree: each node's boxes are
+    /// tested once for the whole packet, each triangle against four rays at once. Lanes with
+    /// `t_max <= 0` are idle. Each lane gets exactly what [`Bvh::cast`] gives its ray.
+    pub fn cast_packet<const G: usize>(
+        &self,
+        origin: Vec3,
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [[Option<Hit>; 4]; G] {
+        let mut best = t_max.map(|t| {
+            t.map(|t| Hit {
+                t,
+                triangle: u32::MAX,
+                u: 0.0,
+                v: 0.0,
+            })
         });
-        let Some(rays) = Rays4::live(origin, dirs, t_max) else {
-            return [None; 4];
-        };
-        let mut limit = t_max.map(f32::next_up);
-        self.walk4(origin, dirs, t_max, |mask, slot, reach| {
-            rays.hits(&self.tris[slot as usize], mask, limit, |lane, (t, u, v)| {
-                let hit = Hit {
-                    t,
-                    triangle: slot,
-                    u,
-                    v,
-                };
-                if let Some(t) = best[lane].closer(hit) {
-                    reach[lane] = t;
-                    limit[lane] = t.next_up();
-                }
-            });
+        let rays = Rays4::packet(origin, dirs, t_max);
+        let mut limit = t_max.map(|t| t.map(f32::next_up));
+        self.walk(origin, dirs, t_max, |g, mask, slot, reach| {
+            let limit = &mut limit[g];
+            let best = &mut best[g];
+            rays[g].hits(
+                &self.tris[slot as usize],
+                mask,
+                *limit,
+                |lane, (t, u, v)| {
+                    let hit = Hit {
+                        t,
+                        triangle: slot,
+                        u,
+                        v,
+                    };
+                    if let Some(t) = best[lane].closer(hit) {
+                        reach[lane] = t;
+                        limit[lane] = t.next_up();
+                    }
+                },
+            );
         });
-        best.map(|b| {
-            (b.triangle != u32::MAX).then(|| Hit {
-                triangle: self.order[b.triangle as usize],
-                ..b
+        best.map(|group| {
+            group.map(|b| {
+                (b.triangle != u32::MAX).then(|| Hit {
+                    triangle: self.order[b.triangle as usize],
+                    ..b
+                })
             })
         })
     }
@@ -230,18 +244,23 @@ impl Bvh {
     /// Whether anything lies on `origin + t·dir` for `t` in (0, `t_max`).
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
-        self.occluded4(origin, &[dir; 4], [t_max, 0.0, 0.0, 0.0])[0]
+        self.occluded_packet(origin, &[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]])[0][0]
     }
 
-    /// [`Bvh::occluded`] for four rays from one origin, traced together; lanes with
-    /// `t_max <= 0` are idle (and not occluded). A lane stops at its first hit.
-    pub fn occluded4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [bool; 4] {
-        let Some(rays) = Rays4::live(origin, dirs, t_max) else {
-            return [false; 4];
-        };
-        let mut blocked = [false; 4];
-        self.walk4(origin, dirs, t_max, |mask, slot, reach| {
-            rays.hits(&self.tris[slot as usize], mask, t_max, |lane, _| {
+    /// [`Bvh::occluded`] for a packet of rays from one origin, `G` groups of four, traced
+    /// together; lanes with `t_max <= 0` are idle (and not occluded). A lane stops at its first
+    /// hit.
+    pub fn occluded_packet<const G: usize>(
+        &self,
+        origin: Vec3,
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [[bool; 4]; G] {
+        let rays = Rays4::packet(origin, dirs, t_max);
+        let mut blocked = [[false; 4]; G];
+        self.walk(origin, dirs, t_max, |g, mask, slot, reach| {
+            let blocked = &mut blocked[g];
+            rays[g].hits(&self.tris[slot as usize], mask, t_max[g], |lane, _| {
                 blocked[lane] = true;
                 reach[lane] = -1.0; // done: the lane enters no more boxes
             });
@@ -251,15 +270,13 @@ impl Bvh {
 
     /// (nodes visited, triangles tested) along a ray: traversal cost, for diagnostics.
     pub fn cost(&self, origin: Vec3, dir: Vec3, t_max: f32) -> (u32, u32) {
-        let (dirs, t_max) = (&[dir; 4], [t_max, 0.0, 0.0, 0.0]);
-        let Some(rays) = Rays4::live(origin, dirs, t_max) else {
-            return (0, 0);
-        };
+        let (dirs, t_max) = (&[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]]);
+        let rays = Rays4::packet(origin, dirs, t_max);
         let mut leaves = 0;
-        let mut limit = t_max.map(f32::next_up);
-        let nodes = self.walk4(origin, dirs, t_max, |mask, slot, reach| {
+        let mut limit = t_max[0].map(f32::next_up);
+        let nodes = self.walk(origin, dirs, t_max, |_, mask, slot, reach| {
             leaves += 1;
-            rays.hits(&self.tris[slot as usize], mask, limit, |lane, (t, ..)| {
+            rays[0].hits(&self.tris[slot as usize], mask, limit, |lane, (t, ..)| {
                 reach[lane] = t;
                 limit[lane] = t.next_up();
             });
@@ -267,33 +284,41 @@ impl Bvh {
         (nodes, leaves)
     }
 
-    /// The four-ray walk of [`Bvh::cast4`]: visits each node once for the whole packet, testing
-    /// its four boxes at once against the cone the rays span (interval arithmetic over their
-    /// inverse directions, a superset of what each ray enters); `leaf(lanes, slot, reach)` tests
-    /// a leaf's triangle for the lanes (bit mask) still searching and lowers their `reach` on
-    /// hits (a `reach` of 0 or less ends a lane). Returns the number of nodes visited.
+    /// The walk of a packet: visits each node once for the whole packet, testing its four boxes
+    /// at once against the cone the rays span (interval arithmetic over their inverse
+    /// directions, a superset of what each ray enters); `leaf(group, lanes, slot, reach)` tests
+    /// a leaf's triangle for the lanes (bit mask) of a group still searching and lowers their
+    /// `reach` on hits (a `reach` of 0 or less ends a lane). Returns the number of nodes visited.
     #[inline(always)]
-    fn walk4(
+    fn walk<const G: usize>(
         &self,
         origin: Vec3,
-        dirs: &[Vec3; 4],
-        t_max: [f32; 4],
-        mut leaf: impl FnMut(u32, u32, &mut [f32; 4]),
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+        mut leaf: impl FnMut(usize, u32, u32, &mut [f32; 4]),
     ) -> u32 {
-        let mut reach = t_max.map(|t| if t > 0.0 { t } else { -1.0 });
-        let mut lanes = live_lanes(reach);
-        if self.nodes.is_empty() || lanes == 0 {
+        let mut reach = t_max.map(|t| t.map(|t| if t > 0.0 { t } else { -1.0 }));
+        let mut lanes = reach.map(live_lanes);
+        if self.nodes.is_empty() || lanes.iter().all(|&l| l == 0) {
             return 0;
         }
-        let cone = Cone::new(origin, dirs, lanes);
+        let cone = Cone::new(origin, dirs, &lanes);
+        // each group's own cone decides which leaves its rays test
+        let groups: [Cone; G] = std::array::from_fn(|g| Cone::new(origin, &[dirs[g]], &[lanes[g]]));
+        let furthest = |reach: &[[f32; 4]; G]| {
+            reach.iter().fold(f32::NEG_INFINITY, |m, r| {
+                m.max(Vec4::from(*r).max_element())
+            })
+        };
         let mut stack = Stack::new();
         let mut cur = 0;
         let mut visited = 0;
         loop {
             visited += 1;
             let n = &self.nodes[cur as usize];
-            let (mut mask, near) = cone.enters(n, Vec4::from(reach).max_element());
+            let (mut mask, near) = cone.enters(n, furthest(&reach));
             let mut entered = Entered::default();
+            let mut leaves = 0;
             while mask != 0 {
                 let c = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
@@ -301,15 +326,34 @@ impl Bvh {
                 if code & LEAF == 0 {
                     entered.insert(code, near[c]);
                 } else if code != EMPTY {
-                    leaf(lanes, code & !LEAF, &mut reach);
-                    lanes = live_lanes(reach);
-                    if lanes == 0 {
-                        return visited;
-                    }
+                    leaves |= 1 << c;
                 }
             }
-            let furthest = Vec4::from(reach).max_element();
-            match stack.next(&entered, furthest * WIDEN.x) {
+            if leaves != 0 {
+                let mut any = 0;
+                for g in 0..G {
+                    if lanes[g] == 0 {
+                        continue;
+                    }
+                    let mut tested = if G == 1 {
+                        leaves
+                    } else {
+                        let reach = Vec4::from(reach[g]).max_element();
+                        groups[g].enters(n, reach).0 & leaves
+                    };
+                    while tested != 0 && lanes[g] != 0 {
+                        let c = tested.trailing_zeros() as usize;
+                        tested &= tested - 1;
+                        leaf(g, lanes[g], n.child[c] & !LEAF, &mut reach[g]);
+                        lanes[g] = live_lanes(reach[g]);
+                    }
+                    any |= lanes[g];
+                }
+                if any == 0 {
+                    return visited;
+                }
+            }
+            match stack.next(&entered, furthest(&reach) * WIDEN.x) {
                 Some(code) => cur = code,
                 None => return visited,
             }
@@ -343,21 +387,26 @@ struct ConeAxis {
 }
 
 impl Cone {
-    /// The cone of the rays in `lanes` (a non-empty bit mask).
-    fn new(origin: Vec3, dirs: &[Vec3; 4], lanes: u32) -> Cone {
-        let live = BVec4A::new(
-            lanes & 1 != 0,
-            lanes & 2 != 0,
-            lanes & 4 != 0,
-            lanes & 8 != 0,
-        );
-        let first = dirs[lanes.trailing_zeros() as usize].to_array();
+    /// The cone of the rays in `lanes` (per group a bit mask, not all empty).
+    fn new<const G: usize>(origin: Vec3, dirs: &[[Vec3; 4]; G], lanes: &[u32; G]) -> Cone {
+        let g0 = lanes.iter().position(|&l| l != 0).unwrap_or(0);
+        let first = dirs[g0][lanes[g0].trailing_zeros() as usize % 4].to_array();
         let axes = std::array::from_fn(|axis| {
-            let c = Vec4::from(dirs.map(|d| d.to_array()[axis]));
-            let c = Vec4::select(live, c, Vec4::splat(first[axis]));
-            let tiny = c.abs().cmplt(Vec4::splat(TINY));
-            let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
-            let (lo, hi) = (inv.min_element(), inv.max_element());
+            let (mut lo, mut hi) = (Vec4::INFINITY, Vec4::NEG_INFINITY);
+            for (dirs, &lanes) in dirs.iter().zip(lanes) {
+                let live = BVec4A::new(
+                    lanes & 1 != 0,
+                    lanes & 2 != 0,
+                    lanes & 4 != 0,
+                    lanes & 8 != 0,
+                );
+                let c = Vec4::from(dirs.map(|d| d.to_array()[axis]));
+                let c = Vec4::select(live, c, Vec4::splat(first[axis]));
+                let tiny = c.abs().cmplt(Vec4::splat(TINY));
+                let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
+                (lo, hi) = (lo.min(inv), hi.max(inv));
+            }
+            let (lo, hi) = (lo.min_element(), hi.max_element());
             let (o, lo, hi) = if lo < 0.0 && hi > 0.0 {
                 // rays both ways: the origin at -∞ makes this axis admit every finite box
                 (f32::NEG_INFINITY, -1.0, 1.0)
@@ -593,32 +642,72 @@ impl ShearedRay {
 
 /// Four rays from one origin prepared for the watertight test: together in SIMD lanes where the
 /// live rays share their sheared axes (nearly always), else one by one.
-enum Rays4 {
-    Shared(RayPacket),
-    Mixed([ShearedRay; 4]),
+struct Rays4 {
+    origin: Vec3,
+    dirs: [Vec3; 4],
+    /// The sheared frame of the live rays, if they share its axes.
+    shared: Option<Shear4>,
+}
+
+/// The sheared frame four rays share: the axes (see [`ShearedRay`]) and each ray's shear.
+struct Shear4 {
+    axes: [usize; 3],
+    sx: Vec4,
+    sy: Vec4,
+    sz: Vec4,
 }
 
 impl Rays4 {
-    /// The live rays (`t_max > 0`), or `None` if there are none; the idle lanes are never tested.
-    fn live(origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> Option<Rays4> {
-        let lanes = live_lanes(t_max);
-        (lanes != 0).then(|| Rays4::new(origin, dirs, lanes))
+    /// The groups of a packet; lanes with `t_max <= 0` are idle and never tested.
+    fn packet<const G: usize>(
+        origin: Vec3,
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [Rays4; G] {
+        std::array::from_fn(|g| Rays4::new(origin, &dirs[g], live_lanes(t_max[g])))
     }
 
-    /// The rays in `lanes` (a non-empty bit mask).
+    /// The rays in `lanes` (a bit mask).
     fn new(origin: Vec3, dirs: &[Vec3; 4], lanes: u32) -> Rays4 {
-        let axes = ShearedRay::axes(dirs[lanes.trailing_zeros() as usize]);
-        let shared = (0..4).all(|l| lanes & (1 << l) == 0 || ShearedRay::axes(dirs[l]) == axes);
-        if shared {
-            Rays4::Shared(RayPacket::new(origin, dirs, axes))
-        } else {
-            Rays4::Mixed(dirs.map(|d| ShearedRay::new(origin, d)))
+        let [dx, dy, dz] = [0, 1, 2].map(|k| Vec4::from(dirs.map(|d| d.to_array()[k])));
+        // the dominant axis per lane, as `Vec3::max_position` picks it (first on ties)
+        let (ax, ay, az) = (dx.abs(), dy.abs(), dz.abs());
+        let is_z = az.cmpgt(ax.max(ay)).bitmask() & lanes;
+        let is_y = ay.cmpgt(ax).bitmask() & !is_z & lanes;
+        let uniform = |m: u32| m == 0 || m == lanes;
+        let kz = if is_z != 0 { 2 } else { usize::from(is_y != 0) };
+        let d = [dx, dy, dz];
+        let negative = d[kz].cmplt(Vec4::ZERO).bitmask() & lanes;
+        let shared = (uniform(is_z) && uniform(is_y) && uniform(negative)).then(|| {
+            let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+            let axes = if negative != 0 {
+                [ky, kx, kz]
+            } else {
+                [kx, ky, kz]
+            };
+            let [x, y, z] = axes.map(|k| d[k]);
+            Shear4 {
+                axes,
+                sx: x / z,
+                sy: y / z,
+                sz: Vec4::ONE / z,
+            }
+        });
+        Rays4 {
+            origin,
+            dirs: *dirs,
+            shared,
         }
+    }
+
+    /// Lane `lane` as a single ray.
+    fn ray(&self, lane: usize) -> ShearedRay {
+        ShearedRay::new(self.origin, self.dirs[lane])
     }
 
     /// Calls `hit(lane, (t, u, v))` for each lane in `mask` whose ray hits `tri` with
     /// 0 < t < `limit[lane]`: all four lanes at once where the rays share their axes, else (and
-    /// on edges) one by one.
+    /// on edges, in f64) one by one.
     #[inline(always)]
     fn hits(
         &self,
@@ -627,76 +716,38 @@ impl Rays4 {
         limit: [f32; 4],
         mut hit: impl FnMut(usize, (f32, f32, f32)),
     ) {
-        match self {
-            Rays4::Shared(packet) => {
-                let (found, t, u, v, edge) = packet.intersect(tri, mask, Vec4::from(limit));
-                let mut todo = found | edge;
-                while todo != 0 {
-                    let lane = todo.trailing_zeros() as usize;
-                    todo &= todo - 1;
-                    if found & (1 << lane) != 0 {
-                        hit(lane, (t[lane], u[lane], v[lane]));
-                    } else if let Some(h) = packet.ray(lane).intersect(tri, limit[lane]) {
-                        hit(lane, h);
-                    }
-                }
-            }
-            Rays4::Mixed(rays) => {
-                let mut todo = mask;
-                while todo != 0 {
-                    let lane = todo.trailing_zeros() as usize;
-                    todo &= todo - 1;
-                    if let Some(h) = rays[lane].intersect(tri, limit[lane]) {
-                        hit(lane, h);
-                    }
-                }
+        let (found, t, u, v, mut todo) = match &self.shared {
+            Some(shear) => shear.intersect(self.origin, tri, mask, Vec4::from(limit)),
+            None => (0, [0.0; 4], [0.0; 4], [0.0; 4], mask),
+        };
+        todo |= found;
+        while todo != 0 {
+            let lane = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
+            if found & (1 << lane) != 0 {
+                hit(lane, (t[lane], u[lane], v[lane]));
+            } else if let Some(h) = self.ray(lane).intersect(tri, limit[lane]) {
+                hit(lane, h);
             }
         }
     }
 }
 
-/// Four rays from one origin whose sheared frames share their axes: the watertight test of one
-/// triangle against all four in SIMD lanes, with the same operations as [`ShearedRay::intersect`]
-/// so that each lane gets the same bits.
-struct RayPacket {
-    origin: Vec3,
-    dirs: [Vec3; 4],
-    axes: [usize; 3],
-    sx: Vec4,
-    sy: Vec4,
-    sz: Vec4,
-}
-
-impl RayPacket {
-    fn new(origin: Vec3, dirs: &[Vec3; 4], axes: [usize; 3]) -> RayPacket {
-        let component = |k: usize| Vec4::from(dirs.map(|d| d.to_array()[k]));
-        let [dx, dy, dz] = axes.map(component);
-        RayPacket {
-            origin,
-            dirs: *dirs,
-            axes,
-            sx: dx / dz,
-            sy: dy / dz,
-            sz: Vec4::ONE / dz,
-        }
-    }
-
-    /// Lane `lane` as a single ray, for the f64 edge test.
-    fn ray(&self, lane: usize) -> ShearedRay {
-        ShearedRay::new(self.origin, self.dirs[lane])
-    }
-
-    /// For the lanes in `mask`: (lanes hit with 0 < t < `limit`, t, u, v, lanes on an edge to
-    /// f32 precision, which the scalar test settles in f64).
+impl Shear4 {
+    /// The watertight test of one triangle against the four rays from `origin`, with the same
+    /// operations as [`ShearedRay::intersect`] so that each lane gets the same bits. For the
+    /// lanes in `mask`: (lanes hit with 0 < t < `limit`, t, u, v, lanes on an edge to f32
+    /// precision, which the scalar test settles in f64).
     #[inline(always)]
     fn intersect(
         &self,
+        origin: Vec3,
         tri: &Tri,
         mask: u32,
         limit: Vec4,
     ) -> (u32, [f32; 4], [f32; 4], [f32; 4], u32) {
         let [kx, ky, kz] = self.axes;
-        let [a, b, c] = tri.map(|v| (v - self.origin).to_array());
+        let [a, b, c] = tri.map(|v| (v - origin).to_array());
         let sheared = |p: [f32; 3]| {
             let z = Vec4::splat(p[kz]);
             (

@@ -132,49 +132,59 @@ fn scan_pixels(
         bias,
     };
     let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
-    // pairs of rows, cast in 2×2 blocks of pixels traced together
+    // bands of BLOCK rows, cast in BLOCK×BLOCK blocks of pixels traced together
     let origin = Vec3::from(pose.translation);
     pixels
-        .par_chunks_mut(2 * width)
+        .par_chunks_mut(BLOCK * width)
         .enumerate()
-        .for_each(|(pair, out)| {
+        .for_each(|(band, out)| {
             let rows = out.len() / width;
-            for col in (0..width).step_by(2) {
-                let mut at = [None; 4];
-                let mut centres = [Vec3::Z; 4];
-                let mut dirs = [Vec3::Z; 4];
-                let mut t_max = [0.0; 4];
-                for (i, (dc, dr)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
-                    let (c, r) = (col + dc, dr);
+            for col in (0..width).step_by(BLOCK) {
+                // pixel (c, r) of the band per lane of each 2×2 group, or none past the edge
+                let mut at = [[None; 4]; GROUPS];
+                let mut centres = [[Vec3::Z; 4]; GROUPS];
+                let mut dirs = [[Vec3::Z; 4]; GROUPS];
+                let mut t_max = [[0.0; 4]; GROUPS];
+                for (g, lane) in (0..GROUPS).flat_map(|g| (0..4).map(move |l| (g, l))) {
+                    let c = col + 2 * (g % (BLOCK / 2)) + lane % 2;
+                    let r = 2 * (g / (BLOCK / 2)) + lane / 2;
                     if c >= width || r >= rows {
                         continue;
                     }
-                    at[i] = Some((c, r));
-                    centres[i] = k.ray(c as f64, (2 * pair + r) as f64);
-                    dirs[i] = pose.transform_vector3(centres[i]);
-                    if region.is_none_or(|reg| reg.crossed_by(origin, dirs[i])) {
-                        t_max[i] = sensor.max_range;
+                    let centre = k.ray(c as f64, (BLOCK * band + r) as f64);
+                    let dir = pose.transform_vector3(centre);
+                    if region.is_none_or(|reg| reg.crossed_by(origin, dir)) {
+                        at[g][lane] = Some((c, r));
+                        (centres[g][lane], dirs[g][lane]) = (centre, dir);
+                        t_max[g][lane] = sensor.max_range;
                     }
                 }
-                let hits = scene.cast4(origin, &dirs, t_max);
-                // up to the light, then the four shadow rays together, then the rest
-                let lit: [Option<Result<Lit, Pixel>>; 4] = std::array::from_fn(|i| {
-                    let (c, r) = at[i]?;
-                    Some(match hits[i] {
-                        Some(hit) => illuminate(&setup, c, 2 * pair + r, centres[i], hit),
-                        None => Err(Pixel::EMPTY),
+                if at.iter().flatten().all(Option::is_none) {
+                    continue; // nothing to cast: the pixels stay empty
+                }
+                let hits = scene.cast_packet(origin, &dirs, &t_max);
+                // up to the light, then the shadow rays together, then the rest
+                let lit: [[Option<Result<Lit, Pixel>>; 4]; GROUPS] = std::array::from_fn(|g| {
+                    std::array::from_fn(|lane| {
+                        let (c, r) = at[g][lane]?;
+                        let hit = hits[g][lane]?;
+                        let row = BLOCK * band + r;
+                        Some(illuminate(&setup, c, row, centres[g][lane], hit))
                     })
                 });
                 let shadows = setup.shadowed(&lit);
-                for (i, lit) in lit.into_iter().enumerate() {
-                    let (Some((c, r)), Some(lit)) = (at[i], lit) else {
-                        continue;
-                    };
-                    out[r * width + c] = match lit {
-                        Ok(lit) if shadows[i] => lit.labelled,
-                        Ok(lit) => finish(&setup, lit),
-                        Err(px) => px,
-                    };
+                let measured = lit.into_iter().zip(at).zip(shadows);
+                for ((lit, at), shadows) in measured {
+                    for ((lit, at), shadowed) in lit.into_iter().zip(at).zip(shadows) {
+                        let (Some(lit), Some((c, r))) = (lit, at) else {
+                            continue;
+                        };
+                        out[r * width + c] = match lit {
+                            Ok(lit) if shadowed => lit.labelled,
+                            Ok(lit) => finish(&setup, lit),
+                            Err(px) => px,
+                        };
+                    }
                 }
             }
         });
@@ -214,23 +224,34 @@ struct Setup<'a> {
 
 impl Setup<'_> {
     /// Which of a block's lit points lie in the projector's shadow, tested as one packet.
-    fn shadowed(&self, lit: &[Option<Result<Lit, Pixel>>; 4]) -> [bool; 4] {
-        let query = |i: usize| match &lit[i] {
+    fn shadowed(&self, lit: &[[Option<Result<Lit, Pixel>>; 4]; GROUPS]) -> [[bool; 4]; GROUPS] {
+        let query = |g: usize, lane: usize| match &lit[g][lane] {
             Some(Ok(Lit {
                 shadow: Some(s), ..
             })) => Some(*s),
             _ => None,
         };
-        if (0..4).all(|i| query(i).is_none()) {
-            return [false; 4];
+        let mut dirs = [[Vec3::Z; 4]; GROUPS];
+        let mut t_max = [[0.0; 4]; GROUPS];
+        let mut any = false;
+        for (g, lane) in (0..GROUPS).flat_map(|g| (0..4).map(move |l| (g, l))) {
+            if let Some((dir, length)) = query(g, lane) {
+                (dirs[g][lane], t_max[g][lane], any) = (dir, length, true);
+            }
+        }
+        if !any {
+            return [[false; 4]; GROUPS];
         }
         let projector = self.sensor.projector().map_or(Vec3::ZERO, |p| p.centre());
         let from = self.pose.transform_point3(projector);
-        let dirs = std::array::from_fn(|i| query(i).map_or(Vec3::Z, |s| s.0));
-        let t_max = std::array::from_fn(|i| query(i).map_or(0.0, |s| s.1));
-        self.scene.occluded4(from, &dirs, t_max)
+        self.scene.occluded_packet(from, &dirs, &t_max)
     }
 }
+
+/// Pixels per side of the blocks a scan casts as one packet.
+const BLOCK: usize = 4;
+/// 2×2 groups of four rays per block.
+const GROUPS: usize = BLOCK * BLOCK / 4;
 
 /// A pixel measured up to its illumination: what [`finish`] needs once the projector's
 /// visibility is known.

@@ -128,28 +128,31 @@ impl Scene {
             .map(|h| self.describe(h, dir))
     }
 
-    /// The closest surfaces along four unit rays from one origin, traced together (see
-    /// [`Bvh::cast4`]); lanes with `t_max <= 0` are idle.
+    /// The closest surfaces along a packet of unit rays from one origin, `G` groups of four,
+    /// traced together (see [`Bvh::cast_packet`]); lanes with `t_max <= 0` are idle.
     #[inline]
-    pub fn cast4(
+    pub fn cast_packet<const G: usize>(
         &self,
         origin: Vec3,
-        dirs: &[Vec3; 4],
-        t_max: [f32; 4],
-    ) -> [Option<SurfaceHit>; 4] {
-        let hits = self.bvh.cast4(origin, dirs, t_max);
-        let mut out = [None; 4];
-        for k in 0..4 {
-            out[k] = hits[k].map(|h| self.describe(h, dirs[k]));
-        }
-        out
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [[Option<SurfaceHit>; 4]; G] {
+        let hits = self.bvh.cast_packet(origin, dirs, t_max);
+        std::array::from_fn(|g| {
+            std::array::from_fn(|k| hits[g][k].map(|h| self.describe(h, dirs[g][k])))
+        })
     }
 
-    /// Whether any surface lies on each of four unit rays from one origin within its `t_max`,
-    /// traced together; lanes with `t_max <= 0` are idle (and not occluded).
+    /// Whether any surface lies on each unit ray of a packet from one origin within its
+    /// `t_max`, traced together; lanes with `t_max <= 0` are idle (and not occluded).
     #[inline]
-    pub fn occluded4(&self, origin: Vec3, dirs: &[Vec3; 4], t_max: [f32; 4]) -> [bool; 4] {
-        self.bvh.occluded4(origin, dirs, t_max)
+    pub fn occluded_packet<const G: usize>(
+        &self,
+        origin: Vec3,
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [[bool; 4]; G] {
+        self.bvh.occluded_packet(origin, dirs, t_max)
     }
 
     /// Whether any surface lies on the unit ray within `t_max`.

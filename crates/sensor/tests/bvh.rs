@@ -165,12 +165,15 @@ fn watertight_through_vertices_and_edges() {
                 .expect("a ray from inside a closed mesh always hits");
             assert!((h.t - (*target - origin).length()).abs() < 1e-5);
         }
-        // the same through packets of four neighbouring targets (their rays share axes)
-        for four in targets.chunks_exact(4) {
-            let dirs: [Vec3; 4] = std::array::from_fn(|k| (four[k] - origin).normalize());
-            for (k, h) in bvh.cast4(origin, &dirs, [10.0; 4]).iter().enumerate() {
+        // the same through packets of sixteen neighbouring targets (groups of four share axes)
+        for sixteen in targets.chunks_exact(16) {
+            let dirs: [[Vec3; 4]; 4] = std::array::from_fn(|g| {
+                std::array::from_fn(|k| (sixteen[4 * g + k] - origin).normalize())
+            });
+            let hits = bvh.cast_packet(origin, &dirs, &[[10.0; 4]; 4]);
+            for (k, h) in hits.iter().flatten().enumerate() {
                 let h = h.expect("a ray from inside a closed mesh always hits");
-                assert!((h.t - (four[k] - origin).length()).abs() < 1e-5);
+                assert!((h.t - (sixteen[k] - origin).length()).abs() < 1e-5);
             }
         }
     }
@@ -288,15 +291,15 @@ fn centre_row_rays_on_an_f64_tessellated_sphere_match_brute_force() {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
 
-    /// Four rays traced together give each lane exactly what one ray alone gets (closest hit and
-    /// occlusion): near-parallel
-    /// packets (camera blocks), spread-out ones, idle lanes, and shared edges of a closed grid.
+    /// Rays traced together as a packet (four groups of four) give each lane exactly what one
+    /// ray alone gets (closest hit and occlusion): near-parallel groups (camera blocks),
+    /// spread-out ones, idle lanes, and shared edges of a closed grid.
     #[test]
-    fn packets_of_four_match_single_rays_bit_for_bit(
+    fn packets_match_single_rays_bit_for_bit(
         centres in prop::collection::vec(v3(), 1..300),
         offsets in prop::collection::vec((v3(), v3()), 300),
         origin in v3(),
-        packets in prop::collection::vec((v3(), v3(), v3(), v3(), 0.0f32..1.0, 0u8..16), 24),
+        groups in prop::collection::vec((v3(), v3(), v3(), v3(), 0.0f32..1.0, 0u8..16), 24),
     ) {
         let mut tris: Vec<[Vec3; 3]> = centres
             .iter()
@@ -306,26 +309,36 @@ proptest! {
         tris.extend(grid_cube(6).into_iter().map(|t| t.map(|v| v * 1.5)));
         let bvh = Bvh::build(&tris);
         let o = origin * 0.5;
-        for (d, a, b, c, spread, idle) in &packets {
-            let Some(d) = d.try_normalize() else { continue };
+        let group = |(d, a, b, c, spread, idle): &(Vec3, Vec3, Vec3, Vec3, f32, u8)| {
+            let d = d.try_normalize().unwrap_or(Vec3::Z);
             let dirs = [d, d + *spread * *a, d + *spread * *b, d + *spread * *c]
                 .map(|x| x.try_normalize().unwrap_or(d));
             let t_max: [f32; 4] =
                 std::array::from_fn(|k| if idle & (1 << k) != 0 { 0.0 } else { 10.0 });
-            let four = bvh.cast4(o, &dirs, t_max);
+            (dirs, t_max)
+        };
+        for packet in groups.chunks_exact(4) {
+            let dirs: [[Vec3; 4]; 4] = std::array::from_fn(|g| group(&packet[g]).0);
+            let t_max: [[f32; 4]; 4] = std::array::from_fn(|g| group(&packet[g]).1);
+            let hits = bvh.cast_packet(o, &dirs, &t_max);
             // occlusion just short of and just past each lane's closest hit
             for scale in [0.5, 0.999, 1.001] {
-                let reach: [f32; 4] =
-                    std::array::from_fn(|k| four[k].map_or(t_max[k], |h| h.t * scale));
-                let blocked = bvh.occluded4(o, &dirs, reach);
-                for k in 0..4 {
-                    let one = reach[k] > 0.0 && bvh.occluded(o, dirs[k], reach[k]);
-                    prop_assert_eq!(blocked[k], one, "occlusion, lane {}, scale {}", k, scale);
+                let reach: [[f32; 4]; 4] = std::array::from_fn(|g| {
+                    std::array::from_fn(|k| hits[g][k].map_or(t_max[g][k], |h| h.t * scale))
+                });
+                let blocked = bvh.occluded_packet(o, &dirs, &reach);
+                for (g, k) in (0..4).flat_map(|g| (0..4).map(move |k| (g, k))) {
+                    let one = reach[g][k] > 0.0 && bvh.occluded(o, dirs[g][k], reach[g][k]);
+                    prop_assert_eq!(blocked[g][k], one, "occlusion, lane {}.{}, scale {}", g, k, scale);
                 }
             }
-            for k in 0..4 {
-                let one = if t_max[k] > 0.0 { bvh.cast(o, dirs[k], t_max[k]) } else { None };
-                prop_assert_eq!(four[k], one, "lane {}", k);
+            for (g, k) in (0..4).flat_map(|g| (0..4).map(move |k| (g, k))) {
+                let one = if t_max[g][k] > 0.0 {
+                    bvh.cast(o, dirs[g][k], t_max[g][k])
+                } else {
+                    None
+                };
+                prop_assert_eq!(hits[g][k], one, "lane {}.{}", g, k);
             }
         }
     }
