@@ -200,17 +200,19 @@ impl Bvh {
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [[Option<Hit>; 4]; G] {
-        let mut best = t_max.map(|t| {
-            t.map(|t| Hit {
-                t,
-                triangle: u32::MAX,
-                u: 0.0,
-                v: 0.0,
-            })
-        });
+        let none = Hit {
+            t: 0.0,
+            triangle: u32::MAX,
+            u: 0.0,
+            v: 0.0,
+        };
+        let mut best = [[none; 4]; G];
+        let mut limit = [[0.0; 4]; G];
+        for (g, k) in (0..G).flat_map(|g| (0..4).map(move |k| (g, k))) {
+            (best[g][k].t, limit[g][k]) = (t_max[g][k], t_max[g][k].next_up());
+        }
         let rays = Rays4::packet(origin, dirs, t_max);
-        let mut limit = t_max.map(|t| t.map(f32::next_up));
-        self.walk(origin, dirs, t_max, |g, mask, slot, reach| {
+        self.walk(origin, &rays, t_max, |g, mask, slot, reach| {
             let limit = &mut limit[g];
             let best = &mut best[g];
             rays[g].hits(
@@ -231,14 +233,18 @@ impl Bvh {
                 },
             );
         });
-        best.map(|group| {
-            group.map(|b| {
-                (b.triangle != u32::MAX).then(|| Hit {
-                    triangle: self.order[b.triangle as usize],
-                    ..b
-                })
-            })
-        })
+        let mut hits = [[None; 4]; G];
+        for (hits, best) in hits.iter_mut().zip(&best) {
+            for (hit, b) in hits.iter_mut().zip(best) {
+                if b.triangle != u32::MAX {
+                    *hit = Some(Hit {
+                        triangle: self.order[b.triangle as usize],
+                        ..*b
+                    });
+                }
+            }
+        }
+        hits
     }
 
     /// Whether anything lies on `origin + t·dir` for `t` in (0, `t_max`).
@@ -258,7 +264,7 @@ impl Bvh {
     ) -> [[bool; 4]; G] {
         let rays = Rays4::packet(origin, dirs, t_max);
         let mut blocked = [[false; 4]; G];
-        self.walk(origin, dirs, t_max, |g, mask, slot, reach| {
+        self.walk(origin, &rays, t_max, |g, mask, slot, reach| {
             let blocked = &mut blocked[g];
             rays[g].hits(&self.tris[slot as usize], mask, t_max[g], |lane, _| {
                 blocked[lane] = true;
@@ -274,7 +280,7 @@ impl Bvh {
         let rays = Rays4::packet(origin, dirs, t_max);
         let mut leaves = 0;
         let mut limit = t_max[0].map(f32::next_up);
-        let nodes = self.walk(origin, dirs, t_max, |_, mask, slot, reach| {
+        let nodes = self.walk(origin, &rays, t_max, |_, mask, slot, reach| {
             leaves += 1;
             rays[0].hits(&self.tris[slot as usize], mask, limit, |lane, (t, ..)| {
                 reach[lane] = t;
@@ -293,7 +299,7 @@ impl Bvh {
     fn walk<const G: usize>(
         &self,
         origin: Vec3,
-        dirs: &[[Vec3; 4]; G],
+        rays: &[Rays4; G],
         t_max: &[[f32; 4]; G],
         mut leaf: impl FnMut(usize, u32, u32, &mut [f32; 4]),
     ) -> u32 {
@@ -302,35 +308,36 @@ impl Bvh {
         if self.nodes.is_empty() || lanes.iter().all(|&l| l == 0) {
             return 0;
         }
-        let cone = Cone::new(origin, dirs, &lanes);
+        let all = rays.iter().map(|r| r.inv).reduce(InvRange::union);
+        let cone = Cone::new(origin, all.expect("a packet has a group"));
         // each group's own cone decides which leaves its rays test
-        let groups: [Cone; G] = std::array::from_fn(|g| Cone::new(origin, &[dirs[g]], &[lanes[g]]));
+        let groups: [Cone; G] = std::array::from_fn(|g| Cone::new(origin, rays[g].inv));
         let furthest = |reach: &[[f32; 4]; G]| {
             reach.iter().fold(f32::NEG_INFINITY, |m, r| {
                 m.max(Vec4::from(*r).max_element())
             })
         };
+        let mut reach_all = furthest(&reach);
         let mut stack = Stack::new();
         let mut cur = 0;
         let mut visited = 0;
         loop {
             visited += 1;
             let n = &self.nodes[cur as usize];
-            let (mut mask, near) = cone.enters(n, furthest(&reach));
-            let mut entered = Entered::default();
+            let (mut mask, near) = cone.enters(n, reach_all);
+            let base = stack.items.len();
             let mut leaves = 0;
             while mask != 0 {
                 let c = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
                 let code = n.child[c];
                 if code & LEAF == 0 {
-                    entered.insert(code, near[c]);
+                    stack.push_sorted(base, code, near[c]);
                 } else if code != EMPTY {
                     leaves |= 1 << c;
                 }
             }
             if leaves != 0 {
-                let mut any = 0;
                 for g in 0..G {
                     if lanes[g] == 0 {
                         continue;
@@ -347,13 +354,13 @@ impl Bvh {
                         leaf(g, lanes[g], n.child[c] & !LEAF, &mut reach[g]);
                         lanes[g] = live_lanes(reach[g]);
                     }
-                    any |= lanes[g];
                 }
-                if any == 0 {
+                if lanes.iter().all(|&l| l == 0) {
                     return visited;
                 }
+                reach_all = furthest(&reach);
             }
-            match stack.next(&entered, furthest(&reach) * WIDEN.x) {
+            match stack.pop_within(reach_all * WIDEN.x) {
                 Some(code) => cur = code,
                 None => return visited,
             }
@@ -386,27 +393,57 @@ struct ConeAxis {
     far: usize,
 }
 
+/// The smallest and largest inverse direction component per axis of some rays (none: the
+/// empty range, +∞ to -∞).
+#[derive(Clone, Copy)]
+struct InvRange {
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl InvRange {
+    /// The range of the rays in `lanes` (a bit mask), given their direction components per
+    /// axis as lanes.
+    #[inline(always)]
+    fn of(d: &[Vec4; 3], lanes: u32) -> InvRange {
+        if lanes == 0 {
+            return InvRange {
+                lo: Vec3::INFINITY,
+                hi: Vec3::NEG_INFINITY,
+            };
+        }
+        let live = BVec4A::new(
+            lanes & 1 != 0,
+            lanes & 2 != 0,
+            lanes & 4 != 0,
+            lanes & 8 != 0,
+        );
+        let first = lanes.trailing_zeros() as usize;
+        let [(xl, xh), (yl, yh), (zl, zh)] = d.map(|c| {
+            let c = Vec4::select(live, c, Vec4::splat(c.to_array()[first]));
+            let tiny = c.abs().cmplt(Vec4::splat(TINY));
+            let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
+            (inv.min_element(), inv.max_element())
+        });
+        InvRange {
+            lo: Vec3::new(xl, yl, zl),
+            hi: Vec3::new(xh, yh, zh),
+        }
+    }
+
+    fn union(self, other: InvRange) -> InvRange {
+        InvRange {
+            lo: self.lo.min(other.lo),
+            hi: self.hi.max(other.hi),
+        }
+    }
+}
+
 impl Cone {
-    /// The cone of the rays in `lanes` (per group a bit mask, not all empty).
-    fn new<const G: usize>(origin: Vec3, dirs: &[[Vec3; 4]; G], lanes: &[u32; G]) -> Cone {
-        let g0 = lanes.iter().position(|&l| l != 0).unwrap_or(0);
-        let first = dirs[g0][lanes[g0].trailing_zeros() as usize % 4].to_array();
+    /// The cone of rays from `origin` with inverse directions in `range`.
+    fn new(origin: Vec3, range: InvRange) -> Cone {
         let axes = std::array::from_fn(|axis| {
-            let (mut lo, mut hi) = (Vec4::INFINITY, Vec4::NEG_INFINITY);
-            for (dirs, &lanes) in dirs.iter().zip(lanes) {
-                let live = BVec4A::new(
-                    lanes & 1 != 0,
-                    lanes & 2 != 0,
-                    lanes & 4 != 0,
-                    lanes & 8 != 0,
-                );
-                let c = Vec4::from(dirs.map(|d| d.to_array()[axis]));
-                let c = Vec4::select(live, c, Vec4::splat(first[axis]));
-                let tiny = c.abs().cmplt(Vec4::splat(TINY));
-                let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
-                (lo, hi) = (lo.min(inv), hi.max(inv));
-            }
-            let (lo, hi) = (lo.min_element(), hi.max_element());
+            let (lo, hi) = (range.lo.to_array()[axis], range.hi.to_array()[axis]);
             let (o, lo, hi) = if lo < 0.0 && hi > 0.0 {
                 // rays both ways: the origin at -∞ makes this axis admit every finite box
                 (f32::NEG_INFINITY, -1.0, 1.0)
@@ -449,28 +486,8 @@ impl Cone {
 /// poison box tests with NaN.
 const TINY: f32 = 1e-20;
 
-/// The children a walk entered at one node, nearest first: (child code, entry distance).
-#[derive(Default)]
-struct Entered {
-    items: [(u32, f32); 4],
-    count: usize,
-}
-
-impl Entered {
-    #[inline(always)]
-    fn insert(&mut self, code: u32, t: f32) {
-        let mut j = self.count;
-        while j > 0 && self.items[j - 1].1 > t {
-            self.items[j] = self.items[j - 1];
-            j -= 1;
-        }
-        self.items[j] = (code, t);
-        self.count += 1;
-    }
-}
-
-/// The nodes a walk deferred, with their entry distances: on the call stack for any sensible
-/// tree depth, on the heap beyond.
+/// The nodes a walk has yet to visit, with their entry distances, the nearest on top: on the
+/// call stack for any sensible tree depth, on the heap beyond.
 struct Stack {
     items: SmallVec<[(u32, f32); STACK]>,
 }
@@ -482,23 +499,22 @@ impl Stack {
         }
     }
 
-    /// The next node to visit: the nearest entered child within `reach` (the others deferred,
-    /// the farthest deepest), else the latest deferred node still within `reach`; `None` when
-    /// the walk is over.
+    /// Pushes a child of the node being visited, keeping the entries above `base` (its other
+    /// children) nearest on top.
     #[inline(always)]
-    fn next(&mut self, entered: &Entered, reach: f32) -> Option<u32> {
-        let mut next = None;
-        for &(code, t) in entered.items[..entered.count].iter().rev() {
-            if t > reach {
-                continue;
-            }
-            if let Some(deferred) = next.replace((code, t)) {
-                self.items.push(deferred);
-            }
+    fn push_sorted(&mut self, base: usize, code: u32, t: f32) {
+        self.items.push((code, t));
+        let mut j = self.items.len() - 1;
+        while j > base && self.items[j - 1].1 < t {
+            self.items.swap(j - 1, j);
+            j -= 1;
         }
-        if let Some((code, _)) = next {
-            return Some(code);
-        }
+    }
+
+    /// The nearest pending node whose entry distance is within `reach`; `None` when the walk is
+    /// over.
+    #[inline(always)]
+    fn pop_within(&mut self, reach: f32) -> Option<u32> {
         while let Some((code, t)) = self.items.pop() {
             if t <= reach {
                 return Some(code);
@@ -645,6 +661,8 @@ impl ShearedRay {
 struct Rays4 {
     origin: Vec3,
     dirs: [Vec3; 4],
+    /// The range of the live rays' inverse directions.
+    inv: InvRange,
     /// The sheared frame of the live rays, if they share its axes.
     shared: Option<Shear4>,
 }
@@ -669,14 +687,14 @@ impl Rays4 {
 
     /// The rays in `lanes` (a bit mask).
     fn new(origin: Vec3, dirs: &[Vec3; 4], lanes: u32) -> Rays4 {
-        let [dx, dy, dz] = [0, 1, 2].map(|k| Vec4::from(dirs.map(|d| d.to_array()[k])));
+        let d = [0, 1, 2].map(|k| Vec4::from(dirs.map(|d| d.to_array()[k])));
+        let [dx, dy, dz] = d;
         // the dominant axis per lane, as `Vec3::max_position` picks it (first on ties)
         let (ax, ay, az) = (dx.abs(), dy.abs(), dz.abs());
         let is_z = az.cmpgt(ax.max(ay)).bitmask() & lanes;
         let is_y = ay.cmpgt(ax).bitmask() & !is_z & lanes;
         let uniform = |m: u32| m == 0 || m == lanes;
         let kz = if is_z != 0 { 2 } else { usize::from(is_y != 0) };
-        let d = [dx, dy, dz];
         let negative = d[kz].cmplt(Vec4::ZERO).bitmask() & lanes;
         let shared = (uniform(is_z) && uniform(is_y) && uniform(negative)).then(|| {
             let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
@@ -696,6 +714,7 @@ impl Rays4 {
         Rays4 {
             origin,
             dirs: *dirs,
+            inv: InvRange::of(&d, lanes),
             shared,
         }
     }

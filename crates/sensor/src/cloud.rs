@@ -77,6 +77,7 @@ impl PointCloud {
     }
 
     /// Appends one point.
+    #[inline]
     pub fn push(&mut self, xyz: Vec3, normal: Vec3, intensity: f32, class: u16, instance: u32) {
         self.xyz.push(xyz);
         self.normal.push(normal);

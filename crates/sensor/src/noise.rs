@@ -2,6 +2,10 @@
 //! drive them: every draw is a pure function of (scan seed, pixel, stream), so a scan's bytes do
 //! not depend on thread count or tiling.
 
+use std::convert::Infallible;
+
+use rand::TryRng;
+use rand_distr::{Distribution, StandardNormal};
 use serde::{Deserialize, Serialize};
 
 /// Random draws keyed by (seed, pixel, stream): SplitMix64 finalisers over the key, a
@@ -32,12 +36,43 @@ impl PixelRng {
         (self.bits(k) >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 
-    /// Standard normal (Box–Muller over streams `k` and `k + 1`, in f32: tails to 5.8σ).
+    /// Standard normal, drawn with `rand_distr`'s ziggurat from stream `k`'s own sequence.
     #[inline]
     pub fn normal(self, k: u64) -> f32 {
-        let u1 = ((self.bits(k) >> 40) as f32 + 0.5) * (1.0 / (1u64 << 24) as f32);
-        let u2 = (self.bits(k + 1) >> 40) as f32 * (1.0 / (1u64 << 24) as f32);
-        (-2.0 * u1.ln()).sqrt() * (std::f32::consts::TAU * u2).cos()
+        let mut draws = Draws {
+            key: self.bits(k),
+            counter: 0,
+        };
+        let z: f64 = StandardNormal.sample(&mut draws);
+        z as f32
+    }
+}
+
+/// The sequence of 64-bit draws of one stream of a pixel, as a `rand` generator for
+/// `rand_distr`'s samplers.
+struct Draws {
+    key: u64,
+    counter: u64,
+}
+
+impl TryRng for Draws {
+    type Error = Infallible;
+
+    #[inline]
+    fn try_next_u32(&mut self) -> Result<u32, Infallible> {
+        Ok((self.try_next_u64()? >> 32) as u32)
+    }
+
+    #[inline]
+    fn try_next_u64(&mut self) -> Result<u64, Infallible> {
+        self.counter += 1;
+        Ok(mix(
+            self.key ^ self.counter.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        ))
+    }
+
+    fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Infallible> {
+        rand::rand_core::utils::fill_bytes_via_next_word(dst, || self.try_next_u64())
     }
 }
 
@@ -51,9 +86,9 @@ fn mix(mut z: u64) -> u64 {
 /// Streams of [`PixelRng`], one per use, so that switching one model on never shifts another's
 /// draws.
 pub mod stream {
-    /// Axial noise (two draws).
+    /// Axial noise.
     pub const AXIAL: u64 = 0;
-    /// Lateral jitter, u and v (two draws each).
+    /// Lateral jitter: u, and v at `LATERAL + 2`.
     pub const LATERAL: u64 = 2;
     /// Random and low-signal dropout.
     pub const DROPOUT: u64 = 6;
@@ -61,7 +96,7 @@ pub mod stream {
     pub const SPECULAR: u64 = 7;
     /// Mixed pixels at depth edges (decision and blend).
     pub const EDGE: u64 = 8;
-    /// Kinect disparity noise (two draws).
+    /// Kinect disparity noise.
     pub const DISPARITY: u64 = 10;
     /// Per-scan bias (drawn once, from the pixel index `u64::MAX`).
     pub const BIAS: u64 = 12;

@@ -140,12 +140,13 @@ fn scan_pixels(
         .for_each(|(band, out)| {
             let rows = out.len() / width;
             for col in (0..width).step_by(BLOCK) {
-                // pixel (c, r) of the band per lane of each 2×2 group, or none past the edge
+                // per lane of each 2×2 group: its pixel's (column, row in the band), or none
+                // past the image's edge or outside the region
                 let mut at = [[None; 4]; GROUPS];
                 let mut centres = [[Vec3::Z; 4]; GROUPS];
                 let mut dirs = [[Vec3::Z; 4]; GROUPS];
                 let mut t_max = [[0.0; 4]; GROUPS];
-                for (g, lane) in (0..GROUPS).flat_map(|g| (0..4).map(move |l| (g, l))) {
+                for (g, lane) in lanes() {
                     let c = col + 2 * (g % (BLOCK / 2)) + lane % 2;
                     let r = 2 * (g / (BLOCK / 2)) + lane / 2;
                     if c >= width || r >= rows {
@@ -163,27 +164,20 @@ fn scan_pixels(
                     continue; // nothing to cast: the pixels stay empty
                 }
                 let hits = scene.cast_packet(origin, &dirs, &t_max);
-                // up to the light, then the shadow rays together, then the rest
-                let lit: [[Option<Result<Lit, Pixel>>; 4]; GROUPS] = std::array::from_fn(|g| {
-                    std::array::from_fn(|lane| {
-                        let (c, r) = at[g][lane]?;
-                        let hit = hits[g][lane]?;
-                        let row = BLOCK * band + r;
-                        Some(illuminate(&setup, c, row, centres[g][lane], hit))
-                    })
-                });
+                // labels and the light first, then the shadow rays together, then the rest
+                let mut lit: [[Option<Lit>; 4]; GROUPS] = Default::default();
+                for (g, lane) in lanes() {
+                    if let (Some((c, r)), Some(hit)) = (at[g][lane], hits[g][lane]) {
+                        let (row, px) = (BLOCK * band + r, &mut out[r * width + c]);
+                        lit[g][lane] = illuminate(&setup, c, row, centres[g][lane], hit, px);
+                    }
+                }
                 let shadows = setup.shadowed(&lit);
-                let measured = lit.into_iter().zip(at).zip(shadows);
-                for ((lit, at), shadows) in measured {
-                    for ((lit, at), shadowed) in lit.into_iter().zip(at).zip(shadows) {
-                        let (Some(lit), Some((c, r))) = (lit, at) else {
-                            continue;
-                        };
-                        out[r * width + c] = match lit {
-                            Ok(lit) if shadowed => lit.labelled,
-                            Ok(lit) => finish(&setup, lit),
-                            Err(px) => px,
-                        };
+                for (g, lane) in lanes() {
+                    if let (Some(lit), Some((c, r))) = (&lit[g][lane], at[g][lane])
+                        && !shadows[g][lane]
+                    {
+                        finish(&setup, lit, &mut out[r * width + c]);
                     }
                 }
             }
@@ -224,18 +218,16 @@ struct Setup<'a> {
 
 impl Setup<'_> {
     /// Which of a block's lit points lie in the projector's shadow, tested as one packet.
-    fn shadowed(&self, lit: &[[Option<Result<Lit, Pixel>>; 4]; GROUPS]) -> [[bool; 4]; GROUPS] {
-        let query = |g: usize, lane: usize| match &lit[g][lane] {
-            Some(Ok(Lit {
-                shadow: Some(s), ..
-            })) => Some(*s),
-            _ => None,
-        };
+    fn shadowed(&self, lit: &[[Option<Lit>; 4]; GROUPS]) -> [[bool; 4]; GROUPS] {
         let mut dirs = [[Vec3::Z; 4]; GROUPS];
         let mut t_max = [[0.0; 4]; GROUPS];
         let mut any = false;
-        for (g, lane) in (0..GROUPS).flat_map(|g| (0..4).map(move |l| (g, l))) {
-            if let Some((dir, length)) = query(g, lane) {
+        for (g, lane) in lanes() {
+            if let Some(Lit {
+                shadow: Some((dir, length)),
+                ..
+            }) = lit[g][lane]
+            {
                 (dirs[g][lane], t_max[g][lane], any) = (dir, length, true);
             }
         }
@@ -253,11 +245,14 @@ const BLOCK: usize = 4;
 /// 2×2 groups of four rays per block.
 const GROUPS: usize = BLOCK * BLOCK / 4;
 
+/// Every (group, lane) of a block.
+fn lanes() -> impl Iterator<Item = (usize, usize)> {
+    (0..GROUPS).flat_map(|g| (0..4).map(move |lane| (g, lane)))
+}
+
 /// A pixel measured up to its illumination: what [`finish`] needs once the projector's
 /// visibility is known.
 struct Lit {
-    /// The pixel with its exact point and labels, and no measured point.
-    labelled: Pixel,
     /// Direction of the (possibly jittered) sampling ray, camera frame.
     dir: Vec3,
     /// Range along it.
@@ -271,15 +266,16 @@ struct Lit {
     rng: PixelRng,
 }
 
-/// Measures one pixel whose centre ray (camera frame) hit `hit`, up to its illumination; a
-/// pixel that can have no point is returned as it stands.
+/// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to its
+/// illumination; `None` when it can have no point.
 fn illuminate(
     setup: &Setup,
     col: usize,
     row: usize,
     centre: Vec3,
     hit: SurfaceHit,
-) -> Result<Lit, Pixel> {
+    px: &mut Pixel,
+) -> Option<Lit> {
     let Setup {
         sensor,
         frustum,
@@ -292,7 +288,7 @@ fn illuminate(
     let rng = PixelRng::new(seed, (row * k.width as usize + col) as u64);
     let to_camera = |d: Vec3| pose.matrix3.transpose() * glam::Vec3A::from(d);
     let normal = Vec3::from(to_camera(hit.normal));
-    let px = Pixel {
+    *px = Pixel {
         clean: centre * hit.t,
         normal,
         class: hit.class,
@@ -309,14 +305,14 @@ fn illuminate(
         let d = k.ray(col as f64 + du as f64, row as f64 + dv as f64);
         let facing = normal.dot(d);
         if facing.abs() < 1e-6 {
-            return Err(px); // grazing: the jittered ray runs along the surface
+            return None; // grazing: the jittered ray runs along the surface
         }
         (d, normal.dot(px.clean) / facing)
     } else {
         (centre, hit.t)
     };
     if range.is_nan() || range < sensor.min_range {
-        return Err(px);
+        return None;
     }
     let point = dir * range;
 
@@ -324,13 +320,13 @@ fn illuminate(
     let (light, shadow) = match (sensor.projector(), frustum) {
         (Some(projector), Some(frustum)) => {
             if !frustum.lights(point) {
-                return Err(px);
+                return None;
             }
             let to_light = projector.centre() - point;
             let distance = to_light.length();
             let l = to_light / distance;
             if normal.dot(l) <= 0.0 {
-                return Err(px); // self-shadowed: the surface faces away from the projector
+                return None; // self-shadowed: the surface faces away from the projector
             }
             let gap = (distance * 1e-4).max(1e-5);
             (
@@ -340,8 +336,7 @@ fn illuminate(
         }
         _ => ((-dir, range), None),
     };
-    Ok(Lit {
-        labelled: px,
+    Some(Lit {
         dir,
         range,
         light,
@@ -351,39 +346,36 @@ fn illuminate(
     })
 }
 
-/// The measured pixel of a lit surface point (its shadow ray, if any, unblocked): signal,
-/// dropouts and range noise.
-fn finish(setup: &Setup, lit: Lit) -> Pixel {
+/// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
+/// signal, dropouts and range noise.
+fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
     let Setup { sensor, bias, .. } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
     let Lit {
-        labelled: px,
         dir,
         mut range,
         light: (light_dir, light_range),
         material,
         rng,
         ..
-    } = lit;
-    let mut measured = px;
-    let cos_light = measured.normal.dot(light_dir).max(0.0);
+    } = *lit;
+    let cos_light = px.normal.dot(light_dir).max(0.0);
     let signal = material.reflectivity * cos_light * (sensor.reference_range / light_range).powi(2);
-    measured.intensity = signal;
 
     if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
-        return px;
+        return;
     }
     if noise.specular.probability > 0.0 && material.specular > 0.0 {
         let half = (light_dir - dir).normalize();
-        if measured.normal.dot(half).clamp(-1.0, 1.0).acos() < material.lobe
+        if px.normal.dot(half).clamp(-1.0, 1.0).acos() < material.lobe
             && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
         {
-            return px;
+            return;
         }
     }
 
-    let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(measured.incidence);
+    let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
     if sigma > 0.0 {
         range += sigma * rng.normal(stream::AXIAL);
     }
@@ -399,7 +391,7 @@ fn finish(setup: &Setup, lit: Lit) -> Pixel {
         let disparity = fb / z + disparity_sigma_px * rng.normal(stream::DISPARITY);
         let disparity = (disparity * subpixel).round() / subpixel;
         if disparity <= 0.0 {
-            return px;
+            return;
         }
         range = fb / disparity / dir.z;
     }
@@ -408,10 +400,10 @@ fn finish(setup: &Setup, lit: Lit) -> Pixel {
         range = (range / noise.quantization).round() * noise.quantization;
     }
     if !(sensor.min_range..=sensor.max_range).contains(&range) {
-        return px;
+        return;
     }
-    measured.point = dir * range;
-    measured
+    px.intensity = signal;
+    px.point = dir * range;
 }
 
 /// Range of a valid pixel's point.

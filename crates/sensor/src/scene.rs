@@ -138,9 +138,13 @@ impl Scene {
         t_max: &[[f32; 4]; G],
     ) -> [[Option<SurfaceHit>; 4]; G] {
         let hits = self.bvh.cast_packet(origin, dirs, t_max);
-        std::array::from_fn(|g| {
-            std::array::from_fn(|k| hits[g][k].map(|h| self.describe(h, dirs[g][k])))
-        })
+        let mut out = [[None; 4]; G];
+        for (g, k) in (0..G).flat_map(|g| (0..4).map(move |k| (g, k))) {
+            if let Some(h) = hits[g][k] {
+                out[g][k] = Some(self.describe(h, dirs[g][k]));
+            }
+        }
+        out
     }
 
     /// Whether any surface lies on each unit ray of a packet from one origin within its

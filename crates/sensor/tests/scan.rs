@@ -671,3 +671,36 @@ fn lateral_jitter_moves_points_on_the_surface_by_the_configured_pixels() {
         assert!((sd / (0.5 / 800.0) - 1.0).abs() < 0.05, "σ {sd}");
     }
 }
+
+/// The per-pixel normal draws: zero mean, unit σ, Gaussian tails, and independent streams.
+#[test]
+fn pixel_normals_are_standard_and_streams_independent() {
+    use ::sensor::noise::{PixelRng, stream};
+    let n = 400_000;
+    let draws: Vec<(f64, f64)> = (0..n)
+        .map(|i| {
+            let rng = PixelRng::new(7, i);
+            (
+                rng.normal(stream::AXIAL) as f64,
+                rng.normal(stream::LATERAL) as f64,
+            )
+        })
+        .collect();
+    let a: Vec<f64> = draws.iter().map(|d| d.0).collect();
+    let (m, sd) = mean_std(&a);
+    assert!(m.abs() < 4.0 / (n as f64).sqrt(), "mean {m}");
+    assert!((sd - 1.0).abs() < 0.01, "σ {sd}");
+    let beyond = |k: f64| a.iter().filter(|z| z.abs() > k).count() as f64 / n as f64;
+    assert!(
+        (beyond(2.0) / 0.0455 - 1.0).abs() < 0.05,
+        "P(|z| > 2) {}",
+        beyond(2.0)
+    );
+    assert!(
+        (beyond(3.0) / 0.0027 - 1.0).abs() < 0.15,
+        "P(|z| > 3) {}",
+        beyond(3.0)
+    );
+    let corr = draws.iter().map(|(x, y)| x * y).sum::<f64>() / n as f64;
+    assert!(corr.abs() < 4.0 / (n as f64).sqrt(), "correlation {corr}");
+}
