@@ -5,7 +5,6 @@
 use glam::{BVec4A, Vec3, Vec4};
 use parry3d::bounding_volume::Aabb;
 use parry3d::partitioning::{Bvh as ParryBvh, BvhBuildStrategy, TraversalAction};
-use smallvec::SmallVec;
 
 /// A node of parry's binary tree as flattened: an internal node's children are at `child` and
 /// `child + 1`; a leaf holds one triangle, `prim` (an input triangle index).
@@ -56,8 +55,9 @@ type Tri = [Vec3; 3];
 /// meshes with binned SAH.
 const PLOC_FROM: usize = 50_000;
 
-/// Traversal stack entries kept inline: a 4-wide node pushes at most 3 entries per level, and
-/// parry's trees of a few million leaves are well under 40 binary (20 four-wide) levels deep.
+/// Traversal stack entries allocated up front: a 4-wide node adds at most 3 entries per level,
+/// and parry's trees of a few million leaves are well under 20 four-wide levels deep (deeper
+/// trees grow the stack).
 const STACK: usize = 64;
 
 /// The closest intersection along a ray.
@@ -486,16 +486,15 @@ impl Cone {
 /// poison box tests with NaN.
 const TINY: f32 = 1e-20;
 
-/// The nodes a walk has yet to visit, with their entry distances, the nearest on top: on the
-/// call stack for any sensible tree depth, on the heap beyond.
+/// The nodes a walk has yet to visit, with their entry distances, the nearest on top.
 struct Stack {
-    items: SmallVec<[(u32, f32); STACK]>,
+    items: Vec<(u32, f32)>,
 }
 
 impl Stack {
     fn new() -> Stack {
         Stack {
-            items: SmallVec::new(),
+            items: Vec::with_capacity(STACK),
         }
     }
 

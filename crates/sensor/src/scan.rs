@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use crate::noise::{PixelRng, stream};
 use crate::scene::Material;
 use crate::scene::{Scene, SurfaceHit};
+use crate::camera::Intrinsics;
 use crate::sensor::{Frustum, Model, SensorSpec};
 
 /// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
@@ -84,6 +85,34 @@ impl Region {
         let far = a.max(b).min_element();
         near <= far
     }
+
+    /// The pixels whose centre rays can cross the box, as columns `c0..c1` and rows `r0..r1`:
+    /// the bounding rectangle of its projected corners, widened by a pixel; `None` where that
+    /// bounds nothing (a lens with distortion, or a corner not in front of the camera).
+    pub fn pixel_window(&self, k: &Intrinsics, pose: &Affine3A) -> Option<[usize; 4]> {
+        if !k.distortion.is_none() {
+            return None;
+        }
+        let to_camera = pose.inverse();
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for corner in 0..8 {
+            let pick = |bit: usize, a: f32, b: f32| if corner & bit == 0 { a } else { b };
+            let world = Vec3::new(
+                pick(1, self.min.x, self.max.x),
+                pick(2, self.min.y, self.max.y),
+                pick(4, self.min.z, self.max.z),
+            );
+            let (u, v) = k.project(to_camera.transform_point3(world))?;
+            (lo, hi) = ([lo[0].min(u), lo[1].min(v)], [hi[0].max(u), hi[1].max(v)]);
+        }
+        let clamp = |x: f64, n: u32| x.clamp(0.0, n as f64) as usize;
+        Some([
+            clamp(lo[0].floor() - 1.0, k.width),
+            clamp(hi[0].ceil() + 2.0, k.width),
+            clamp(lo[1].floor() - 1.0, k.height),
+            clamp(hi[1].ceil() + 2.0, k.height),
+        ])
+    }
 }
 
 /// Scans `scene` with `sensor` from the camera-to-world `pose`. Every random draw is keyed by
@@ -132,6 +161,9 @@ fn scan_pixels(
         bias,
     };
     let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
+    let [c0, c1, r0, r1] = region
+        .and_then(|reg| reg.pixel_window(k, pose))
+        .unwrap_or([0, width, 0, k.height as usize]);
     // bands of BLOCK rows, cast in BLOCK×BLOCK blocks of pixels traced together
     let origin = Vec3::from(pose.translation);
     pixels
@@ -139,7 +171,10 @@ fn scan_pixels(
         .enumerate()
         .for_each(|(band, out)| {
             let rows = out.len() / width;
-            for col in (0..width).step_by(BLOCK) {
+            if BLOCK * band + rows <= r0 || BLOCK * band >= r1 {
+                return; // outside the region's window: nothing to cast
+            }
+            for col in (c0 - c0 % BLOCK..c1).step_by(BLOCK) {
                 // per lane of each 2×2 group: its pixel's (column, row in the band), or none
                 // past the image's edge or outside the region
                 let mut at = [[None; 4]; GROUPS];

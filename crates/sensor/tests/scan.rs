@@ -704,3 +704,53 @@ fn pixel_normals_are_standard_and_streams_independent() {
     let corr = draws.iter().map(|(x, y)| x * y).sum::<f64>() / n as f64;
     assert!(corr.abs() < 4.0 / (n as f64).sqrt(), "correlation {corr}");
 }
+
+/// A region's pixel window holds every pixel whose centre ray crosses the box, from cameras all
+/// around it, and is refused where a rectangle cannot bound those pixels.
+#[test]
+fn region_pixel_window_holds_every_crossing_pixel() {
+    let k = small_camera(160, 120, 150.0);
+    let region = Region {
+        min: Vec3::new(-0.12, -0.05, -0.08),
+        max: Vec3::new(0.1, 0.07, 0.04),
+    };
+    let mut windows = 0;
+    for i in 0..24 {
+        let a = i as f32 * 0.7;
+        let eye = Vec3::new(a.cos() * 0.6, a.sin() * 0.5, 0.3 + 0.1 * (i % 3) as f32);
+        let pose = look_at(eye, Vec3::new(0.02 * (i % 5) as f32, 0.0, 0.0), Vec3::Z).unwrap();
+        let Some([c0, c1, r0, r1]) = region.pixel_window(&k, &pose) else {
+            continue;
+        };
+        windows += 1;
+        let origin = Vec3::from(pose.translation);
+        let mut crossing = 0;
+        for r in 0..k.height as usize {
+            for c in 0..k.width as usize {
+                let dir = pose.transform_vector3(k.ray(c as f64, r as f64));
+                if region.crossed_by(origin, dir) {
+                    crossing += 1;
+                    assert!(
+                        (c0..c1).contains(&c) && (r0..r1).contains(&r),
+                        "pose {i}: pixel ({c}, {r}) outside {c0}..{c1} x {r0}..{r1}"
+                    );
+                }
+            }
+        }
+        assert!(crossing > 0, "pose {i} sees the region");
+        assert!((c1 - c0) * (r1 - r0) < 3 * crossing, "pose {i}: loose window");
+    }
+    assert!(windows >= 20, "{windows} windows");
+    // inside the box, or with a distorting lens, a rectangle bounds nothing
+    assert_eq!(region.pixel_window(&k, &Affine3A::IDENTITY), None);
+    let distorted = Intrinsics {
+        distortion: Distortion {
+            k1: -0.2,
+            ..Distortion::default()
+        },
+        ..k
+    };
+    let pose = look_at(Vec3::new(0.0, 0.0, 0.6), Vec3::ZERO, Vec3::Y).unwrap();
+    assert!(region.pixel_window(&k, &pose).is_some());
+    assert_eq!(region.pixel_window(&distorted, &pose), None);
+}
