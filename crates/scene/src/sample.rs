@@ -15,11 +15,6 @@ use crate::config::{Config, CropConfig, Variant};
 use crate::error::Result;
 use crate::rig::camera_poses;
 
-/// How far beyond the crop box a scan still casts rays, in pixel footprints at the box's far
-/// corner: beyond the reach of lateral jitter, mixed pixels and the Kinect window (4 pixels), so
-/// cropping loses nothing.
-const REGION_MARGIN_PX: f32 = 12.0;
-
 /// Independent random streams of a sample (so that changing one setting leaves the others'
 /// draws alone).
 mod stream {
@@ -189,7 +184,9 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
                 let far = crop.center().distance(Vec3::from(pose.translation))
                     + crop.size().length() / 2.0;
                 let k = &sensor.intrinsics;
-                let margin = REGION_MARGIN_PX * far / k.fx.min(k.fy) as f32;
+                // beyond the reach of the sensor's neighbour effects (in pixel footprints at the
+                // box's far corner), so cropping loses nothing
+                let margin = sensor.reach_px() * far / k.fx.min(k.fy) as f32;
                 let region = Region {
                     min: crop.min - margin,
                     max: crop.max + margin,

@@ -3,10 +3,10 @@
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
+use crate::camera::Intrinsics;
 use crate::noise::{PixelRng, stream};
 use crate::scene::Material;
 use crate::scene::{Scene, SurfaceHit};
-use crate::camera::Intrinsics;
 use crate::sensor::{Frustum, Model, SensorSpec};
 
 /// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
@@ -123,8 +123,9 @@ pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
 
 /// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast. A
 /// point can only lie in a box its ray crosses, so cropping to `region` gives what a full scan
-/// would; neighbour effects (mixed pixels, the Kinect window) and lateral jitter reach about a
-/// pixel's footprint beyond it, so callers crop to a box a little smaller than `region`.
+/// would; neighbour effects (mixed pixels, the Kinect window) and lateral jitter reach
+/// [`SensorSpec::reach_px`] pixels beyond it, so callers crop to a box smaller by that many
+/// pixel footprints.
 pub fn scan_within(
     scene: &Scene,
     sensor: &SensorSpec,
@@ -161,9 +162,12 @@ fn scan_pixels(
         bias,
     };
     let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
-    let [c0, c1, r0, r1] = region
-        .and_then(|reg| reg.pixel_window(k, pose))
-        .unwrap_or([0, width, 0, k.height as usize]);
+    let [c0, c1, r0, r1] = region.and_then(|reg| reg.pixel_window(k, pose)).unwrap_or([
+        0,
+        width,
+        0,
+        k.height as usize,
+    ]);
     // bands of BLOCK rows, cast in BLOCK×BLOCK blocks of pixels traced together
     let origin = Vec3::from(pose.translation);
     pixels

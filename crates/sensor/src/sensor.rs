@@ -313,6 +313,24 @@ impl SensorSpec {
         }
     }
 
+    /// How far, in pixels, a pixel's measurement can reach beyond its own centre ray: lateral
+    /// jitter moves it (16σ bounds any draw), mixed pixels read the adjacent pixels and the
+    /// Kinect window its neighbourhood; plus a pixel for rounding. Range noise keeps a point on
+    /// its ray. A point can only lie in a box that its pixel's ray, or one this many pixels
+    /// away, crosses.
+    pub fn reach_px(&self) -> f32 {
+        let window = match self.model {
+            Model::Kinect { window, .. } => (window / 2) as f32,
+            _ => 0.0,
+        };
+        let edges = if self.noise.edges.probability > 0.0 {
+            1.0
+        } else {
+            0.0
+        };
+        1.0 + (16.0 * self.noise.lateral_px).max(edges).max(window)
+    }
+
     /// Checks the camera and the ranges.
     pub fn validate(&self) -> Result<(), Error> {
         self.intrinsics.validate()?;

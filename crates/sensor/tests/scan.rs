@@ -614,6 +614,7 @@ fn region_scan_keeps_every_point_inside_the_region_and_skips_the_rest() {
                 probability: 0.5,
                 jump: 0.01,
             },
+            lateral_px: 0.2,
             ..Noise::default()
         },
         ..ideal(small_camera(240, 180, 200.0))
@@ -622,13 +623,21 @@ fn region_scan_keeps_every_point_inside_the_region_and_skips_the_rest() {
         sphere(Vec3::new(0.05, 0.0, 1.0), 0.2, 120),
         facing_plane(1.5),
     ]);
-    let region = Region {
+    let crop = Region {
         min: Vec3::new(-0.1, -0.15, 0.7),
         max: Vec3::new(0.25, 0.1, 1.6),
     };
+    // the region grows the crop by the sensor's reach at the crop's far corner, as datasets do
+    let far = crop.max.length();
+    let margin = spec.reach_px() * far / 200.0;
+    assert!((spec.reach_px() - 4.2).abs() < 1e-6);
+    let region = Region {
+        min: crop.min - margin,
+        max: crop.max + margin,
+    };
     let inside = |p: &Pixel| {
         let q = p.point;
-        q.cmpge(region.min + 0.02).all() && q.cmple(region.max - 0.02).all()
+        q.cmpge(crop.min).all() && q.cmple(crop.max).all()
     };
     let full = scan(&scene, &spec, &Affine3A::IDENTITY, 5);
     let part = scan_within(&scene, &spec, &Affine3A::IDENTITY, 5, &region);
@@ -738,7 +747,10 @@ fn region_pixel_window_holds_every_crossing_pixel() {
             }
         }
         assert!(crossing > 0, "pose {i} sees the region");
-        assert!((c1 - c0) * (r1 - r0) < 3 * crossing, "pose {i}: loose window");
+        assert!(
+            (c1 - c0) * (r1 - r0) < 3 * crossing,
+            "pose {i}: loose window"
+        );
     }
     assert!(windows >= 20, "{windows} windows");
     // inside the box, or with a distorting lens, a rectangle bounds nothing
@@ -753,4 +765,35 @@ fn region_pixel_window_holds_every_crossing_pixel() {
     let pose = look_at(Vec3::new(0.0, 0.0, 0.6), Vec3::ZERO, Vec3::Y).unwrap();
     assert!(region.pixel_window(&k, &pose).is_some());
     assert_eq!(region.pixel_window(&distorted, &pose), None);
+}
+
+/// [`SensorSpec::reach_px`] bounds how far a measured point lands from its own pixel (lateral
+/// jitter), so that datasets grow their scan regions enough.
+#[test]
+fn reach_bounds_how_far_points_land_from_their_pixel() {
+    let noise = Noise {
+        lateral_px: 0.5,
+        ..Noise::default()
+    };
+    let spec = SensorSpec {
+        noise,
+        ..ideal(small_camera(500, 400, 800.0))
+    };
+    assert_eq!(spec.reach_px(), 9.0);
+    let s = noisy_plane(1.0, noise, 11);
+    let k = small_camera(500, 400, 800.0);
+    let farthest = s
+        .pixels
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.is_valid())
+        .map(|(i, p)| {
+            let (u, v) = k.project(p.point).unwrap();
+            let (c, r) = ((i % 500) as f64, (i / 500) as f64);
+            ((u - c).powi(2) + (v - r).powi(2)).sqrt()
+        })
+        .fold(0.0, f64::max);
+    // 200k pixels jittered with σ = 0.5 px: some move over 3σ, none anywhere near the reach
+    assert!(farthest > 1.5, "{farthest}");
+    assert!(farthest < spec.reach_px() as f64 - 1.0, "{farthest}");
 }
