@@ -6,7 +6,7 @@ use motorgen::kernel::Aabb;
 use motorgen::{Motor, ParamSpace, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use sensor::{PointCloud, Region, Scan, Scene, SensorSpec, scan, scan_within};
+use sensor::{Pixel, PointCloud, Region, Scan, Scene, SensorSpec, scan_reusing};
 use serde_json::json;
 
 use crate::augment::{Level, Split, assign};
@@ -14,6 +14,12 @@ use crate::cell::{Cell, Variation, compose};
 use crate::config::{Config, CropConfig, Variant};
 use crate::error::Result;
 use crate::rig::camera_poses;
+
+thread_local! {
+    /// The pixels of this thread's last region scan, reused by its next: a megapixel buffer
+    /// mapped afresh per sample costs more in page faults than the scan spends filling it.
+    static PIXELS: std::cell::Cell<Vec<Pixel>> = const { std::cell::Cell::new(Vec::new()) };
+}
 
 /// Independent random streams of a sample (so that changing one setting leaves the others'
 /// draws alone).
@@ -177,33 +183,39 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         .enumerate()
         .map(|(v, pose)| {
             let noise_seed = derive_seed(seed, stream::SCAN + v as u64);
-            let s = if whole {
-                scan(&scene, &sensor, &pose, noise_seed)
-            } else {
-                // no corner of the box is farther than this
+            // unless the whole scene is wanted, only pixels whose rays cross the crop box grown
+            // beyond the reach of the sensor's neighbour effects (in pixel footprints at the
+            // box's far corner, than which no corner is farther), so cropping loses nothing
+            let region = (!whole).then(|| {
                 let far = crop.center().distance(Vec3::from(pose.translation))
                     + crop.size().length() / 2.0;
                 let k = &sensor.intrinsics;
-                // beyond the reach of the sensor's neighbour effects (in pixel footprints at the
-                // box's far corner), so cropping loses nothing
                 let margin = sensor.reach_px() * far / k.fx.min(k.fy) as f32;
-                let region = Region {
+                Region {
                     min: crop.min - margin,
                     max: crop.max + margin,
-                };
-                scan_within(&scene, &sensor, &pose, noise_seed, &region)
-            };
+                }
+            });
+            let buffer = PIXELS.take();
+            let s = scan_reusing(&scene, &sensor, &pose, noise_seed, region.as_ref(), buffer);
             let mut jitter = rng(seed, stream::JITTER + v as u64);
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
             let to_frame = out.frame.from_camera(&pose);
+            let scene_cloud = out
+                .scene_cloud
+                .then(|| s.cloud(out.clean, out.frame, out.units));
+            let scan = if out.images {
+                Some(s)
+            } else {
+                PIXELS.set(s.pixels);
+                None
+            };
             View {
                 pose,
                 noise_seed,
                 cloud: cloud.transformed(&to_frame, out.units),
-                scene_cloud: out
-                    .scene_cloud
-                    .then(|| s.cloud(out.clean, out.frame, out.units)),
-                scan: out.images.then_some(s),
+                scene_cloud,
+                scan,
             }
         })
         .collect();

@@ -18,6 +18,6 @@ pub use camera::{Distortion, Intrinsics, look_at};
 pub use cloud::{Frame, PointCloud, Units};
 pub use error::Error;
 pub use noise::Noise;
-pub use scan::{Pixel, Region, Scan, scan, scan_within};
+pub use scan::{Pixel, Region, Scan, scan, scan_reusing, scan_within};
 pub use scene::{Classes, Material, Scene, Target};
 pub use sensor::{Model, PRESETS, Projector, SensorSpec};

@@ -118,7 +118,7 @@ impl Region {
 /// Scans `scene` with `sensor` from the camera-to-world `pose`. Every random draw is keyed by
 /// (seed, pixel), so the result is the same for any number of threads.
 pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> Scan {
-    scan_pixels(scene, sensor, pose, seed, None)
+    scan_pixels(scene, sensor, pose, seed, None, Vec::new())
 }
 
 /// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast. A
@@ -133,7 +133,21 @@ pub fn scan_within(
     seed: u64,
     region: &Region,
 ) -> Scan {
-    scan_pixels(scene, sensor, pose, seed, Some(region))
+    scan_pixels(scene, sensor, pose, seed, Some(region), Vec::new())
+}
+
+/// [`scan`], or [`scan_within`] a region, into the allocation of `buffer` (the pixels of an
+/// earlier scan): a caller scanning frame after frame spares the mapping and page faults of a
+/// fresh megapixel buffer each time. The result is the same whatever the buffer held.
+pub fn scan_reusing(
+    scene: &Scene,
+    sensor: &SensorSpec,
+    pose: &Affine3A,
+    seed: u64,
+    region: Option<&Region>,
+    buffer: Vec<Pixel>,
+) -> Scan {
+    scan_pixels(scene, sensor, pose, seed, region, buffer)
 }
 
 fn scan_pixels(
@@ -142,6 +156,7 @@ fn scan_pixels(
     pose: &Affine3A,
     seed: u64,
     region: Option<&Region>,
+    mut pixels: Vec<Pixel>,
 ) -> Scan {
     let k = &sensor.intrinsics;
     let width = k.width as usize;
@@ -161,7 +176,8 @@ fn scan_pixels(
         seed,
         bias,
     };
-    let mut pixels = vec![Pixel::EMPTY; width * k.height as usize];
+    pixels.clear();
+    pixels.resize(width * k.height as usize, Pixel::EMPTY);
     let [c0, c1, r0, r1] = region.and_then(|reg| reg.pixel_window(k, pose)).unwrap_or([
         0,
         width,

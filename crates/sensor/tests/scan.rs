@@ -797,3 +797,44 @@ fn reach_bounds_how_far_points_land_from_their_pixel() {
     assert!(farthest > 1.5, "{farthest}");
     assert!(farthest < spec.reach_px() as f64 - 1.0, "{farthest}");
 }
+
+/// A scan into an earlier scan's buffer, whatever it holds, equals a fresh scan.
+#[test]
+fn scans_reusing_a_buffer_equal_fresh_ones() {
+    let spec = SensorSpec {
+        noise: Noise {
+            axial: Axial {
+                sigma: 1e-3,
+                ..Axial::default()
+            },
+            ..Noise::default()
+        },
+        ..ideal(small_camera(120, 90, 100.0))
+    };
+    let scene = Scene::new(&[sphere(Vec3::new(0.0, 0.0, 1.0), 0.2, 40), facing_plane(1.5)]);
+    let region = Region {
+        min: Vec3::new(-0.1, -0.1, 0.7),
+        max: Vec3::new(0.1, 0.1, 1.6),
+    };
+    let dirty = vec![
+        Pixel {
+            point: Vec3::ONE,
+            class: 9,
+            ..Pixel::EMPTY
+        };
+        20_000
+    ];
+    for region in [None, Some(&region)] {
+        let fresh = scan_reusing(&scene, &spec, &Affine3A::IDENTITY, 3, region, Vec::new());
+        let reused = scan_reusing(&scene, &spec, &Affine3A::IDENTITY, 3, region, dirty.clone());
+        // (compared as text: the empty pixels' NaNs are unequal to themselves)
+        let text = |s: &Scan| format!("{s:?}");
+        assert!(fresh.valid_count() > 200, "{}", fresh.valid_count());
+        assert_eq!(text(&fresh), text(&reused));
+        let plain = match region {
+            Some(r) => scan_within(&scene, &spec, &Affine3A::IDENTITY, 3, r),
+            None => scan(&scene, &spec, &Affine3A::IDENTITY, 3),
+        };
+        assert_eq!(text(&fresh), text(&plain));
+    }
+}
