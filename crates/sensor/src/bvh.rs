@@ -1,6 +1,8 @@
-//! A ray-casting BVH: built by parry (binned or PLOC), flattened into 32-byte nodes with
-//! adjacent children and leaf triangles stored in traversal order, then traversed nearest child
-//! first with a Möller–Trumbore triangle test that allocates nothing.
+//! A ray-casting BVH: built by parry (binned or PLOC), collapsed into a 4-wide tree whose leaf
+//! triangles are stored in traversal order, and walked by packets of rays from one origin: each
+//! node's four boxes are tested once per packet against the cone the rays span, nearest child
+//! first, and each triangle against four rays at once with a watertight test (Woop et al. 2013).
+//! A single ray is a packet with one live lane.
 
 use glam::{BVec4A, Vec3, Vec4};
 use parry3d::bounding_volume::Aabb;
