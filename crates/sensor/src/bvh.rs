@@ -210,7 +210,7 @@ impl Bvh {
         };
         let mut best = [[none; 4]; G];
         let mut limit = [[0.0; 4]; G];
-        for (g, k) in (0..G).flat_map(|g| (0..4).map(move |k| (g, k))) {
+        for (g, k) in lanes::<G>() {
             (best[g][k].t, limit[g][k]) = (t_max[g][k], t_max[g][k].next_up());
         }
         let rays = Rays4::packet(origin, dirs, t_max);
@@ -368,6 +368,11 @@ impl Bvh {
             }
         }
     }
+}
+
+/// Every (group, lane) of a packet of `G` groups of four rays.
+pub(crate) fn lanes<const G: usize>() -> impl Iterator<Item = (usize, usize)> {
+    (0..G).flat_map(|g| (0..4).map(move |lane| (g, lane)))
 }
 
 /// The lanes (bit mask) whose reach or `t_max` is positive.

@@ -3,6 +3,7 @@
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
+use crate::bvh::lanes;
 use crate::camera::Intrinsics;
 use crate::noise::{PixelRng, stream};
 use crate::scene::Material;
@@ -201,7 +202,7 @@ fn scan_pixels(
                 let mut centres = [[Vec3::Z; 4]; GROUPS];
                 let mut dirs = [[Vec3::Z; 4]; GROUPS];
                 let mut t_max = [[0.0; 4]; GROUPS];
-                for (g, lane) in lanes() {
+                for (g, lane) in lanes::<GROUPS>() {
                     let c = col + 2 * (g % (BLOCK / 2)) + lane % 2;
                     let r = 2 * (g / (BLOCK / 2)) + lane / 2;
                     if c >= width || r >= rows {
@@ -221,14 +222,14 @@ fn scan_pixels(
                 let hits = scene.cast_packet(origin, &dirs, &t_max);
                 // labels and the light first, then the shadow rays together, then the rest
                 let mut lit: [[Option<Lit>; 4]; GROUPS] = Default::default();
-                for (g, lane) in lanes() {
+                for (g, lane) in lanes::<GROUPS>() {
                     if let (Some((c, r)), Some(hit)) = (at[g][lane], hits[g][lane]) {
                         let (row, px) = (BLOCK * band + r, &mut out[r * width + c]);
                         lit[g][lane] = illuminate(&setup, c, row, centres[g][lane], hit, px);
                     }
                 }
                 let shadows = setup.shadowed(&lit);
-                for (g, lane) in lanes() {
+                for (g, lane) in lanes::<GROUPS>() {
                     if let (Some(lit), Some((c, r))) = (&lit[g][lane], at[g][lane])
                         && !shadows[g][lane]
                     {
@@ -277,7 +278,7 @@ impl Setup<'_> {
         let mut dirs = [[Vec3::Z; 4]; GROUPS];
         let mut t_max = [[0.0; 4]; GROUPS];
         let mut any = false;
-        for (g, lane) in lanes() {
+        for (g, lane) in lanes::<GROUPS>() {
             if let Some(Lit {
                 shadow: Some((dir, length)),
                 ..
@@ -299,11 +300,6 @@ impl Setup<'_> {
 const BLOCK: usize = 4;
 /// 2×2 groups of four rays per block.
 const GROUPS: usize = BLOCK * BLOCK / 4;
-
-/// Every (group, lane) of a block.
-fn lanes() -> impl Iterator<Item = (usize, usize)> {
-    (0..GROUPS).flat_map(|g| (0..4).map(move |lane| (g, lane)))
-}
 
 /// A pixel measured up to its illumination: what [`finish`] needs once the projector's
 /// visibility is known.

@@ -3,7 +3,7 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use crate::bvh::{Bvh, Hit};
+use crate::bvh::{Bvh, Hit, lanes};
 
 /// How a surface returns light, as the noise models read it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -139,7 +139,7 @@ impl Scene {
     ) -> [[Option<SurfaceHit>; 4]; G] {
         let hits = self.bvh.cast_packet(origin, dirs, t_max);
         let mut out = [[None; 4]; G];
-        for (g, k) in (0..G).flat_map(|g| (0..4).map(move |k| (g, k))) {
+        for (g, k) in lanes::<G>() {
             if let Some(h) = hits[g][k] {
                 out[g][k] = Some(self.describe(h, dirs[g][k]));
             }
