@@ -57,10 +57,9 @@ type Tri = [Vec3; 3];
 /// meshes with binned SAH.
 const PLOC_FROM: usize = 50_000;
 
-/// Traversal stack entries allocated up front: a 4-wide node adds at most 3 entries per level,
-/// and parry's trees of a few million leaves are well under 20 four-wide levels deep (deeper
-/// trees grow the stack).
-const STACK: usize = 64;
+/// Traversal stack entries kept on the call stack: parry's trees of a few million triangles are
+/// well under 20 four-wide levels deep, and a walk holds at most four entries per level.
+const STACK: usize = 128;
 
 /// The closest intersection along a ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,6 +93,8 @@ impl Hit {
 pub struct Bvh {
     /// The 4-wide nodes, the root first (none for no triangles).
     nodes: Vec<Node4>,
+    /// The most entries a walk's stack can hold: four per level of the tree.
+    stack: usize,
     tris: Vec<Tri>,
     /// Input triangle index of each leaf-ordered triangle.
     order: Vec<u32>,
@@ -104,6 +105,7 @@ impl Bvh {
     pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
         let mut bvh = Bvh {
             nodes: Vec::new(),
+            stack: 0,
             tris: Vec::new(),
             order: Vec::new(),
         };
@@ -133,6 +135,7 @@ impl Bvh {
             node.child[0] = root;
             bvh.nodes.push(node);
         }
+        bvh.stack = 4 * bvh.depth(0);
         bvh
     }
 
@@ -174,6 +177,12 @@ impl Bvh {
         }
         self.nodes[index] = node;
         index as u32
+    }
+
+    /// Levels of the tree below and including node `i`.
+    fn depth(&self, i: usize) -> usize {
+        let inner = self.nodes[i].child.iter().filter(|&&c| c & LEAF == 0);
+        1 + inner.map(|&c| self.depth(c as usize)).max().unwrap_or(0)
     }
 
     /// Number of triangles.
@@ -320,14 +329,22 @@ impl Bvh {
             })
         };
         let mut reach_all = furthest(&reach);
-        let mut stack = Stack::new();
+        // on the call stack for any tree a real mesh gives, on the heap beyond
+        let (mut inline, mut heap) = ([(0, 0.0); STACK], Vec::new());
+        let items: &mut [(u32, f32)] = if self.stack <= STACK {
+            &mut inline
+        } else {
+            heap.resize(self.stack, (0, 0.0));
+            &mut heap
+        };
+        let mut stack = Stack { items, len: 0 };
         let mut cur = 0;
         let mut visited = 0;
         loop {
             visited += 1;
             let n = &self.nodes[cur as usize];
             let (mut mask, near) = cone.enters(n, reach_all);
-            let base = stack.items.len();
+            let base = stack.len;
             let mut leaves = 0;
             while mask != 0 {
                 let c = mask.trailing_zeros() as usize;
@@ -493,35 +510,34 @@ impl Cone {
 /// poison box tests with NaN.
 const TINY: f32 = 1e-20;
 
-/// The nodes a walk has yet to visit, with their entry distances, the nearest on top.
-struct Stack {
-    items: Vec<(u32, f32)>,
+/// The nodes a walk has yet to visit, with their entry distances, the nearest on top, in
+/// storage of the size the tree needs.
+struct Stack<'a> {
+    items: &'a mut [(u32, f32)],
+    len: usize,
 }
 
-impl Stack {
-    fn new() -> Stack {
-        Stack {
-            items: Vec::with_capacity(STACK),
-        }
-    }
-
+impl Stack<'_> {
     /// Pushes a child of the node being visited, keeping the entries above `base` (its other
     /// children) nearest on top.
     #[inline(always)]
     fn push_sorted(&mut self, base: usize, code: u32, t: f32) {
-        self.items.push((code, t));
-        let mut j = self.items.len() - 1;
+        let mut j = self.len;
+        self.len += 1;
         while j > base && self.items[j - 1].1 < t {
-            self.items.swap(j - 1, j);
+            self.items[j] = self.items[j - 1];
             j -= 1;
         }
+        self.items[j] = (code, t);
     }
 
     /// The nearest pending node whose entry distance is within `reach`; `None` when the walk is
     /// over.
     #[inline(always)]
     fn pop_within(&mut self, reach: f32) -> Option<u32> {
-        while let Some((code, t)) = self.items.pop() {
+        while self.len > 0 {
+            self.len -= 1;
+            let (code, t) = self.items[self.len];
             if t <= reach {
                 return Some(code);
             }
