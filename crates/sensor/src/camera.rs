@@ -25,8 +25,9 @@ pub struct Distortion {
 
 impl Distortion {
     /// Whether all coefficients are zero.
+    #[inline]
     pub fn is_none(&self) -> bool {
-        *self == Distortion::default()
+        [self.k1, self.k2, self.k3, self.p1, self.p2] == [0.0; 5]
     }
 
     /// Distorts ideal normalised coordinates (x, y) = (X/Z, Y/Z).

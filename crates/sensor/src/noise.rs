@@ -65,10 +65,15 @@ impl TryRng for Draws {
 
     #[inline]
     fn try_next_u64(&mut self) -> Result<u64, Infallible> {
+        // the key is itself a hash: it serves as the first draw (the ziggurat nearly always
+        // needs only one), mixed with the counter after that
+        let draw = if self.counter == 0 {
+            self.key
+        } else {
+            mix(self.key ^ self.counter.wrapping_mul(0x9e37_79b9_7f4a_7c15))
+        };
         self.counter += 1;
-        Ok(mix(
-            self.key ^ self.counter.wrapping_mul(0x9e37_79b9_7f4a_7c15)
-        ))
+        Ok(draw)
     }
 
     fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Infallible> {

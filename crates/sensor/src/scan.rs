@@ -1,12 +1,13 @@
 //! Scanning: one organized H×W grid of returns per scan, in the camera frame.
 
+use std::ops::Range;
+
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
 use crate::bvh::lanes;
 use crate::camera::Intrinsics;
 use crate::noise::{PixelRng, stream};
-use crate::scene::Material;
 use crate::scene::{Scene, SurfaceHit};
 use crate::sensor::{Frustum, Model, SensorSpec};
 
@@ -255,7 +256,7 @@ fn scan_pixels(
         window_filter(&mut scan, window as usize, window_fraction, inlier_distance);
     }
     if sensor.noise.edges.probability > 0.0 {
-        mixed_pixels(&mut scan, sensor, seed);
+        mixed_pixels(&mut scan, r0..r1, sensor, seed);
     }
     scan
 }
@@ -301,24 +302,23 @@ const BLOCK: usize = 4;
 /// 2×2 groups of four rays per block.
 const GROUPS: usize = BLOCK * BLOCK / 4;
 
-/// A pixel measured up to its illumination: what [`finish`] needs once the projector's
-/// visibility is known.
+/// A pixel measured up to the projector's visibility: what [`finish`] needs once that is known.
 struct Lit {
     /// Direction of the (possibly jittered) sampling ray, camera frame.
     dir: Vec3,
     /// Range along it.
     range: f32,
-    /// Unit direction to the light, camera frame, and the distance to it.
-    light: (Vec3, f32),
+    /// Signal strength at the point.
+    signal: f32,
     /// The shadow ray, world frame, towards the surface from the projector: direction and
     /// length (none for sensors that light from the camera).
     shadow: Option<(Vec3, f32)>,
-    material: Material,
     rng: PixelRng,
 }
 
-/// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to its
-/// illumination; `None` when it can have no point.
+/// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to the
+/// projector's visibility: where it samples, its light, signal and dropouts (which need no
+/// shadow ray, so lost pixels cast none); `None` when it can have no point.
 fn illuminate(
     setup: &Setup,
     col: usize,
@@ -368,7 +368,7 @@ fn illuminate(
     let point = dir * range;
 
     // illumination: the projector, or the camera itself
-    let (light, shadow) = match (sensor.projector(), frustum) {
+    let ((light_dir, light_range), shadow) = match (sensor.projector(), frustum) {
         (Some(projector), Some(frustum)) => {
             if !frustum.lights(point) {
                 return None;
@@ -387,18 +387,33 @@ fn illuminate(
         }
         _ => ((-dir, range), None),
     };
+
+    let material = hit.material;
+    let cos_light = normal.dot(light_dir).max(0.0);
+    let signal = material.reflectivity * cos_light * (sensor.reference_range / light_range).powi(2);
+    if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
+        return None;
+    }
+    if noise.specular.probability > 0.0 && material.specular > 0.0 {
+        // the half vector lies within the lobe: its angle to the normal is below `lobe`
+        let half = (light_dir - dir).normalize();
+        if normal.dot(half) > material.lobe.cos()
+            && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
+        {
+            return None;
+        }
+    }
     Some(Lit {
         dir,
         range,
-        light,
+        signal,
         shadow,
-        material: hit.material,
         rng,
     })
 }
 
 /// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
-/// signal, dropouts and range noise.
+/// range noise, quantisation and the range limits.
 fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
     let Setup { sensor, bias, .. } = *setup;
     let k = &sensor.intrinsics;
@@ -406,26 +421,10 @@ fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
     let Lit {
         dir,
         mut range,
-        light: (light_dir, light_range),
-        material,
+        signal,
         rng,
         ..
     } = *lit;
-    let cos_light = px.normal.dot(light_dir).max(0.0);
-    let signal = material.reflectivity * cos_light * (sensor.reference_range / light_range).powi(2);
-
-    if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
-        return;
-    }
-    if noise.specular.probability > 0.0 && material.specular > 0.0 {
-        let half = (light_dir - dir).normalize();
-        if px.normal.dot(half).clamp(-1.0, 1.0).acos() < material.lobe
-            && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
-        {
-            return;
-        }
-    }
-
     let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
     if sigma > 0.0 {
         range += sigma * rng.normal(stream::AXIAL);
@@ -463,38 +462,37 @@ fn range_of(p: &Pixel) -> Option<f32> {
 }
 
 /// Mixed pixels: an edge pixel may be pulled along its own ray towards its neighbour's depth.
-fn mixed_pixels(scan: &mut Scan, sensor: &SensorSpec, seed: u64) {
-    let (w, h) = (scan.width as usize, scan.height as usize);
-    let ranges: Vec<Option<f32>> = scan.pixels.iter().map(range_of).collect();
+/// Only `rows` can hold points.
+fn mixed_pixels(scan: &mut Scan, rows: Range<usize>, sensor: &SensorSpec, seed: u64) {
+    let w = scan.width as usize;
+    let cast = &mut scan.pixels[rows.start * w..rows.end * w];
+    let ranges: Vec<Option<f32>> = cast.iter().map(range_of).collect();
     let edges = sensor.noise.edges;
-    scan.pixels
-        .par_chunks_mut(w)
-        .enumerate()
-        .for_each(|(row, out)| {
-            for (col, px) in out.iter_mut().enumerate() {
-                let i = row * w + col;
-                let Some(r) = ranges[i] else { continue };
-                let neighbours = [
-                    (col > 0).then(|| i - 1),
-                    (col + 1 < w).then(|| i + 1),
-                    (row > 0).then(|| i - w),
-                    (row + 1 < h).then(|| i + w),
-                ];
-                let far = neighbours
-                    .into_iter()
-                    .flatten()
-                    .filter_map(|j| ranges[j])
-                    .max_by(|a, b| (a - r).abs().total_cmp(&(b - r).abs()));
-                let Some(other) = far.filter(|o| (o - r).abs() > edges.jump) else {
-                    continue;
-                };
-                let rng = PixelRng::new(seed, i as u64);
-                if rng.uniform(stream::EDGE) < edges.probability {
-                    let blend = rng.uniform(stream::EDGE + 1);
-                    px.point *= (r + blend * (other - r)) / r;
-                }
+    cast.par_chunks_mut(w).enumerate().for_each(|(r, out)| {
+        for (col, px) in out.iter_mut().enumerate() {
+            let i = r * w + col;
+            let Some(range) = ranges[i] else { continue };
+            let neighbours = [
+                (col > 0).then(|| i - 1),
+                (col + 1 < w).then(|| i + 1),
+                (r > 0).then(|| i - w),
+                (i + w < ranges.len()).then(|| i + w),
+            ];
+            let far = neighbours
+                .into_iter()
+                .flatten()
+                .filter_map(|j| ranges[j])
+                .max_by(|a, b| (a - range).abs().total_cmp(&(b - range).abs()));
+            let Some(other) = far.filter(|o| (o - range).abs() > edges.jump) else {
+                continue;
+            };
+            let rng = PixelRng::new(seed, (rows.start * w + i) as u64);
+            if rng.uniform(stream::EDGE) < edges.probability {
+                let blend = rng.uniform(stream::EDGE + 1);
+                px.point *= (range + blend * (other - range)) / range;
             }
-        });
+        }
+    });
 }
 
 /// Kinect validity window: a pixel stays if enough of its window holds points within the

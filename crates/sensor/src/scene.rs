@@ -13,7 +13,7 @@ pub struct Material {
     pub reflectivity: f32,
     /// Share of specular, mirror-like reflection 0..1 (polished metal: bolt heads, pole pot).
     pub specular: f32,
-    /// Width of the specular lobe, radians (small = mirror).
+    /// Width of the specular lobe, radians, 0 to π (small = mirror).
     pub lobe: f32,
 }
 
