@@ -8,7 +8,7 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
-use sensor::{Bvh, Classes, Material, Scene, SensorSpec, Target, look_at, scan};
+use sensor::{Bvh, Classes, Material, Scene, SensorSpec, Target, look_at, scan, scan_reusing};
 
 /// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about 4n² triangles.
 fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
@@ -130,6 +130,16 @@ fn zivid_frame(c: &mut Criterion) {
     g.throughput(Throughput::Elements(1));
     g.bench_function("zivid_2plus_m130_frame_200k_triangles", |b| {
         b.iter(|| black_box(scan(&scene, &sensor, &pose, 1).valid_count()))
+    });
+    // frame after frame into one buffer, as a camera loop or a dataset worker scans
+    let mut pixels = Vec::new();
+    g.bench_function("zivid_2plus_m130_frame_200k_triangles_reused_buffer", |b| {
+        b.iter(|| {
+            let frame = scan_reusing(&scene, &sensor, &pose, 1, None, std::mem::take(&mut pixels));
+            let valid = frame.valid_count();
+            pixels = frame.pixels;
+            black_box(valid)
+        })
     });
     g.finish();
 }

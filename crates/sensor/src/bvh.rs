@@ -431,24 +431,19 @@ impl InvRange {
     /// axis as lanes.
     #[inline(always)]
     fn of(d: &[Vec4; 3], lanes: u32) -> InvRange {
-        if lanes == 0 {
-            return InvRange {
-                lo: Vec3::INFINITY,
-                hi: Vec3::NEG_INFINITY,
-            };
-        }
         let live = BVec4A::new(
             lanes & 1 != 0,
             lanes & 2 != 0,
             lanes & 4 != 0,
             lanes & 8 != 0,
         );
-        let first = lanes.trailing_zeros() as usize;
         let [(xl, xh), (yl, yh), (zl, zh)] = d.map(|c| {
-            let c = Vec4::select(live, c, Vec4::splat(c.to_array()[first]));
             let tiny = c.abs().cmplt(Vec4::splat(TINY));
             let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
-            (inv.min_element(), inv.max_element())
+            (
+                Vec4::select(live, inv, Vec4::INFINITY).min_element(),
+                Vec4::select(live, inv, Vec4::NEG_INFINITY).max_element(),
+            )
         });
         InvRange {
             lo: Vec3::new(xl, yl, zl),
@@ -466,24 +461,24 @@ impl InvRange {
 
 impl Cone {
     /// The cone of rays from `origin` with inverse directions in `range`.
+    #[inline(always)]
     fn new(origin: Vec3, range: InvRange) -> Cone {
+        // rays both ways along an axis: the origin at -∞ makes it admit every finite box
+        let both = range.lo.cmplt(Vec3::ZERO) & range.hi.cmpgt(Vec3::ZERO);
+        let o = Vec3::select(both, Vec3::NEG_INFINITY, origin).to_array();
+        let lo = Vec3::select(both, Vec3::NEG_ONE, range.lo).to_array();
+        let hi = Vec3::select(both, Vec3::ONE, range.hi).to_array();
+        let backwards = range.hi.cmplt(Vec3::ZERO).bitmask();
         let axes = std::array::from_fn(|axis| {
-            let (lo, hi) = (range.lo.to_array()[axis], range.hi.to_array()[axis]);
-            let (o, lo, hi) = if lo < 0.0 && hi > 0.0 {
-                // rays both ways: the origin at -∞ makes this axis admit every finite box
-                (f32::NEG_INFINITY, -1.0, 1.0)
-            } else {
-                (origin.to_array()[axis], lo, hi)
-            };
-            let (near, far) = if hi < 0.0 {
+            let (near, far) = if backwards & (1 << axis) != 0 {
                 (axis + 3, axis)
             } else {
                 (axis, axis + 3)
             };
             ConeAxis {
-                origin: Vec4::splat(o),
-                inv_lo: Vec4::splat(lo),
-                inv_hi: Vec4::splat(hi),
+                origin: Vec4::splat(o[axis]),
+                inv_lo: Vec4::splat(lo[axis]),
+                inv_hi: Vec4::splat(hi[axis]),
                 near,
                 far,
             }
@@ -683,7 +678,8 @@ impl ShearedRay {
 /// live rays share their sheared axes (nearly always), else one by one.
 struct Rays4 {
     origin: Vec3,
-    dirs: [Vec3; 4],
+    /// Direction components per axis (x, y, z), a ray per lane.
+    dirs: [Vec4; 3],
     /// The range of the live rays' inverse directions.
     inv: InvRange,
     /// The sheared frame of the live rays, if they share its axes.
@@ -709,8 +705,14 @@ impl Rays4 {
     }
 
     /// The rays in `lanes` (a bit mask).
+    #[inline(always)]
     fn new(origin: Vec3, dirs: &[Vec3; 4], lanes: u32) -> Rays4 {
-        let d = [0, 1, 2].map(|k| Vec4::from(dirs.map(|d| d.to_array()[k])));
+        let [a, b, c, e] = dirs;
+        let d = [
+            Vec4::new(a.x, b.x, c.x, e.x),
+            Vec4::new(a.y, b.y, c.y, e.y),
+            Vec4::new(a.z, b.z, c.z, e.z),
+        ];
         let [dx, dy, dz] = d;
         // the dominant axis per lane, as `Vec3::max_position` picks it (first on ties)
         let (ax, ay, az) = (dx.abs(), dy.abs(), dz.abs());
@@ -726,7 +728,7 @@ impl Rays4 {
             } else {
                 [kx, ky, kz]
             };
-            let [x, y, z] = axes.map(|k| d[k]);
+            let [x, y, z] = [d[axes[0]], d[axes[1]], d[axes[2]]];
             Shear4 {
                 axes,
                 sx: x / z,
@@ -736,7 +738,7 @@ impl Rays4 {
         });
         Rays4 {
             origin,
-            dirs: *dirs,
+            dirs: d,
             inv: InvRange::of(&d, lanes),
             shared,
         }
@@ -744,7 +746,8 @@ impl Rays4 {
 
     /// Lane `lane` as a single ray.
     fn ray(&self, lane: usize) -> ShearedRay {
-        ShearedRay::new(self.origin, self.dirs[lane])
+        let [x, y, z] = self.dirs.map(|c| c.to_array()[lane]);
+        ShearedRay::new(self.origin, Vec3::new(x, y, z))
     }
 
     /// Calls `hit(lane, (t, u, v))` for each lane in `mask` whose ray hits `tri` with
