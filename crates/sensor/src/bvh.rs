@@ -808,7 +808,10 @@ impl Shear4 {
         let on_edge = (u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero)).bitmask() & mask;
         let negative = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
         let positive = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
-        let inside = !(negative & positive).bitmask();
+        let inside = !(negative & positive).bitmask() & !on_edge & mask;
+        if inside == 0 {
+            return (0, [0.0; 4], [0.0; 4], [0.0; 4], on_edge); // most tests miss
+        }
         let det = u + v + w;
         let t_scaled = u * self.sz * Vec4::splat(a[kz])
             + v * self.sz * Vec4::splat(b[kz])
@@ -816,7 +819,7 @@ impl Shear4 {
         let inv = Vec4::ONE / det;
         let t = t_scaled * inv;
         let valid = det.cmpne(zero) & t.cmpgt(zero) & t.cmplt(limit);
-        let found = valid.bitmask() & inside & !on_edge & mask;
+        let found = valid.bitmask() & inside;
         (
             found,
             t.to_array(),
