@@ -456,36 +456,53 @@ fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
     px.point = dir * range;
 }
 
-/// Range of a valid pixel's point.
-fn range_of(p: &Pixel) -> Option<f32> {
-    p.is_valid().then(|| p.point.length())
-}
-
 /// Mixed pixels: an edge pixel may be pulled along its own ray towards its neighbour's depth.
 /// Only `rows` can hold points.
 fn mixed_pixels(scan: &mut Scan, rows: Range<usize>, sensor: &SensorSpec, seed: u64) {
     let w = scan.width as usize;
     let cast = &mut scan.pixels[rows.start * w..rows.end * w];
-    let ranges: Vec<Option<f32>> = cast.iter().map(range_of).collect();
+    // each pixel's range, NaN where it has no point
+    let ranges: Vec<f32> = cast
+        .iter()
+        .map(|p| {
+            if p.is_valid() {
+                p.point.length()
+            } else {
+                f32::NAN
+            }
+        })
+        .collect();
     let edges = sensor.noise.edges;
     cast.par_chunks_mut(w).enumerate().for_each(|(r, out)| {
         for (col, px) in out.iter_mut().enumerate() {
             let i = r * w + col;
-            let Some(range) = ranges[i] else { continue };
-            let neighbours = [
-                (col > 0).then(|| i - 1),
-                (col + 1 < w).then(|| i + 1),
-                (r > 0).then(|| i - w),
-                (i + w < ranges.len()).then(|| i + w),
-            ];
-            let far = neighbours
-                .into_iter()
-                .flatten()
-                .filter_map(|j| ranges[j])
-                .max_by(|a, b| (a - range).abs().total_cmp(&(b - range).abs()));
-            let Some(other) = far.filter(|o| (o - range).abs() > edges.jump) else {
+            let range = ranges[i];
+            if range.is_nan() {
                 continue;
+            }
+            // the 4-neighbour with a point whose range differs most (the last of equals)
+            let (mut other, mut gap) = (f32::NAN, -1.0);
+            let mut consider = |j: usize| {
+                let d = (ranges[j] - range).abs();
+                if d >= gap {
+                    (other, gap) = (ranges[j], d); // never taken for NaN: no point
+                }
             };
+            if col > 0 {
+                consider(i - 1);
+            }
+            if col + 1 < w {
+                consider(i + 1);
+            }
+            if r > 0 {
+                consider(i - w);
+            }
+            if i + w < ranges.len() {
+                consider(i + w);
+            }
+            if gap <= edges.jump {
+                continue;
+            }
             let rng = PixelRng::new(seed, (rows.start * w + i) as u64);
             if rng.uniform(stream::EDGE) < edges.probability {
                 let blend = rng.uniform(stream::EDGE + 1);
