@@ -195,6 +195,31 @@ impl Bvh {
         self.tris.is_empty()
     }
 
+    /// The triangles by slot (leaf order), as [`Bvh::hit_slot`] names them.
+    pub(crate) fn slots(&self) -> &[Tri] {
+        &self.tris
+    }
+
+    /// Where the ray `origin + t·dir`, `t` > 0, meets the triangle in `slot`, with the bits
+    /// the walk's test gives.
+    #[inline]
+    pub(crate) fn hit_slot(&self, slot: u32, origin: Vec3, dir: Vec3) -> Option<Hit> {
+        ShearedRay::new(origin, dir)
+            .intersect(&self.tris[slot as usize], f32::INFINITY)
+            .map(|(t, u, v)| Hit {
+                t,
+                triangle: self.order[slot as usize],
+                u,
+                v,
+            })
+    }
+
+    /// The input index of the triangle in `slot`.
+    #[inline]
+    pub(crate) fn triangle(&self, slot: u32) -> u32 {
+        self.order[slot as usize]
+    }
+
     /// The closest hit along `origin + t·dir` with `t` in (0, `t_max`); `dir` must be unit length.
     #[inline]
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {

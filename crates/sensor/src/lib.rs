@@ -9,6 +9,7 @@ pub mod cloud;
 mod error;
 pub mod formats;
 pub mod noise;
+mod raster;
 pub mod scan;
 pub mod scene;
 pub mod sensor;

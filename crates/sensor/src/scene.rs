@@ -1,9 +1,13 @@
 //! What a sensor scans: labelled triangle meshes with materials, in one BVH.
 
-use glam::Vec3;
+use std::ops::Range;
+
+use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::bvh::{Bvh, Hit, lanes};
+use crate::bvh::{Bvh, lanes};
+use crate::camera::Intrinsics;
+use crate::raster::{self, Drawing, Visibility};
 
 /// How a surface returns light, as the noise models read it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -125,7 +129,7 @@ impl Scene {
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<SurfaceHit> {
         self.bvh
             .cast(origin, dir, t_max)
-            .map(|h| self.describe(h, dir))
+            .map(|h| self.describe(h.t, h.triangle, dir))
     }
 
     /// The closest surfaces along a packet of unit rays from one origin, `G` groups of four,
@@ -141,7 +145,7 @@ impl Scene {
         let mut out = [[None; 4]; G];
         for (g, k) in lanes::<G>() {
             if let Some(h) = hits[g][k] {
-                out[g][k] = Some(self.describe(h, dirs[g][k]));
+                out[g][k] = Some(self.describe(h.t, h.triangle, dirs[g][k]));
             }
         }
         out
@@ -165,16 +169,59 @@ impl Scene {
         self.bvh.occluded(origin, dir, t_max)
     }
 
-    fn describe(&self, h: Hit, dir: Vec3) -> SurfaceHit {
-        let info = self.tris[h.triangle as usize];
+    /// The candidate triangles of a pinhole camera's pixels over `cols` × `rows` (see
+    /// [`crate::raster`]), to confirm with [`Scene::first_hit`].
+    pub(crate) fn visibility(
+        &self,
+        k: &Intrinsics,
+        pose: &Affine3A,
+        cols: Range<usize>,
+        rows: Range<usize>,
+    ) -> Visibility {
+        raster::visibility(self.bvh.slots(), k, pose, cols, rows)
+    }
+
+    /// The closest surface along a unit ray within `t_max`, given what was drawn at its pixel
+    /// (see [`Scene::visibility`]): the nearest triangle where the ray passes clear of its
+    /// edges, else the first of the two nearest the caster's test confirms, else the caster's
+    /// answer.
+    #[inline]
+    pub(crate) fn first_hit(
+        &self,
+        drawing: Drawing,
+        origin: Vec3,
+        dir: Vec3,
+        t_max: f32,
+    ) -> Option<SurfaceHit> {
+        let [nearest, next] = drawing.slots;
+        if nearest == raster::NONE {
+            return None; // drawn conservatively: nothing drawn, nothing hit
+        }
+        let hit = if drawing.clear_t > 0.0 {
+            Some((drawing.clear_t, self.bvh.triangle(nearest)))
+        } else {
+            [nearest, next]
+                .into_iter()
+                .filter(|&slot| slot != raster::NONE)
+                .find_map(|slot| self.bvh.hit_slot(slot, origin, dir))
+                .map(|h| (h.t, h.triangle))
+        };
+        match hit {
+            Some((t, triangle)) => (t < t_max).then(|| self.describe(t, triangle, dir)),
+            None => self.cast(origin, dir, t_max),
+        }
+    }
+
+    fn describe(&self, t: f32, triangle: u32, dir: Vec3) -> SurfaceHit {
+        let info = self.tris[triangle as usize];
         let normal = if info.normal.dot(dir) > 0.0 {
             -info.normal
         } else {
             info.normal
         };
         SurfaceHit {
-            t: h.t,
-            triangle: h.triangle,
+            t,
+            triangle,
             normal,
             class: info.class,
             instance: self.instances[info.target as usize],
