@@ -187,13 +187,12 @@ fn scan_pixels(
         k.height as usize,
     ]);
     // the pixels the blocks below may cast, and, for a pinhole camera, their candidate
-    // triangles drawn all at once: confirming a candidate costs a fraction of a ray's walk
+    // triangles drawn all at once: confirming a candidate costs a fraction of a ray's walk,
+    // drawing a triangle about a third of one, so a few pixels on a large mesh are cast
     let cols = c0 - c0 % BLOCK..(c1.div_ceil(BLOCK) * BLOCK).min(width);
     let rows = r0 - r0 % BLOCK..(r1.div_ceil(BLOCK) * BLOCK).min(k.height as usize);
-    let visibility = k
-        .distortion
-        .is_none()
-        .then(|| scene.visibility(k, pose, cols.clone(), rows));
+    let draw = k.distortion.is_none() && 3 * cols.len() * rows.len() >= scene.triangle_count();
+    let visibility = draw.then(|| scene.visibility(k, pose, cols.clone(), rows));
     // bands of BLOCK rows, cast in BLOCK×BLOCK blocks of pixels traced together
     let origin = Vec3::from(pose.translation);
     pixels
