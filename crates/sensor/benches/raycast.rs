@@ -8,7 +8,7 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
-use sensor::{Bvh, Classes, Material, Scene, SensorSpec, Target, look_at, scan, scan_reusing};
+use sensor::{Bvh, Material, Scene, SensorSpec, Target, look_at, scan, scan_reusing};
 
 /// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about 4n² triangles.
 fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
@@ -108,16 +108,7 @@ fn raycast(c: &mut Criterion) {
 /// model of the preset, the organized scan in memory) of the 200k-triangle scene from 1.3 m.
 fn zivid_frame(c: &mut Criterion) {
     let tris = sphere_on_plane(200_000);
-    let target = Target {
-        positions: tris.iter().flatten().copied().collect(),
-        triangles: (0..tris.len() as u32)
-            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-            .collect(),
-        classes: Classes::Uniform(1),
-        instance: 1,
-        material: Material::default(),
-    };
-    let scene = Scene::new(&[target]);
+    let scene = Scene::new(&[Target::from_triangles(&tris, 1, 1, Material::default())]);
     let sensor = SensorSpec::preset("zivid-2plus-m130").unwrap();
     let pose: Affine3A = look_at(
         Vec3::new(0.1, -0.2, 1.28),

@@ -328,18 +328,10 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::{Classes, Material, Scene, Target, look_at};
+    use crate::{Material, Scene, Target, look_at};
 
     fn scene_of(tris: &[[Vec3; 3]]) -> Scene {
-        Scene::new(&[Target {
-            positions: tris.iter().flatten().copied().collect(),
-            triangles: (0..tris.len() as u32)
-                .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-                .collect(),
-            classes: Classes::Uniform(1),
-            instance: 1,
-            material: Material::default(),
-        }])
+        Scene::new(&[Target::from_triangles(tris, 1, 1, Material::default())])
     }
 
     /// Every pixel's first hit through the drawing against the caster's: (pixels hit, pixels

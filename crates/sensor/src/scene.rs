@@ -46,6 +46,26 @@ pub struct Target {
     pub material: Material,
 }
 
+impl Target {
+    /// A target of separate triangles (a soup, as STL stores them), all of one class.
+    pub fn from_triangles(
+        triangles: &[[Vec3; 3]],
+        class: u16,
+        instance: u32,
+        material: Material,
+    ) -> Target {
+        Target {
+            positions: triangles.iter().flatten().copied().collect(),
+            triangles: (0..triangles.len() as u32)
+                .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+                .collect(),
+            classes: Classes::Uniform(class),
+            instance,
+            material,
+        }
+    }
+}
+
 /// The semantic class of a target's triangles.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Classes {
