@@ -208,7 +208,7 @@ impl Bvh {
             .intersect(&self.tris[slot as usize], f32::INFINITY)
             .map(|(t, u, v)| Hit {
                 t,
-                triangle: self.order[slot as usize],
+                triangle: self.triangle(slot),
                 u,
                 v,
             })
@@ -274,7 +274,7 @@ impl Bvh {
             for (hit, b) in hits.iter_mut().zip(best) {
                 if b.triangle != u32::MAX {
                     *hit = Some(Hit {
-                        triangle: self.order[b.triangle as usize],
+                        triangle: self.triangle(b.triangle),
                         ..*b
                     });
                 }
