@@ -213,7 +213,16 @@ impl Dropout {
     #[inline]
     pub fn probability(&self, s: f32) -> f32 {
         let low = if self.signal_threshold > 0.0 {
-            1.0 / (1.0 + ((s - self.signal_threshold) / self.softness.max(1e-6)).exp())
+            let x = (s - self.signal_threshold) / self.softness.max(1e-6);
+            // beyond ±17.5 the logistic rounds to 0 or 1 in what follows (1 - e^-17.5 is 1.0
+            // in f32): the same bits without the exponential
+            if x > 17.5 {
+                0.0
+            } else if x < -17.5 {
+                1.0
+            } else {
+                1.0 / (1.0 + x.exp())
+            }
         } else {
             0.0
         };
@@ -301,5 +310,31 @@ impl Noise {
             ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dropout_probability_skips_the_exponential_without_changing_a_bit() {
+        let dropout = Dropout {
+            rate: 0.002,
+            signal_threshold: 0.05,
+            softness: 0.02,
+        };
+        let logistic = |s: f32| {
+            let low = 1.0 / (1.0 + ((s - 0.05) / 0.02f32).exp());
+            1.0 - (1.0 - 0.002f32) * (1.0 - low)
+        };
+        for i in -200_000..200_000 {
+            let s = 0.05 + i as f32 * 2e-6;
+            assert_eq!(
+                dropout.probability(s).to_bits(),
+                logistic(s).to_bits(),
+                "{s}"
+            );
+        }
     }
 }

@@ -364,7 +364,7 @@ fn illuminate(
         normal,
         class: hit.class,
         instance: hit.instance,
-        incidence: normal.dot(-centre).clamp(-1.0, 1.0).acos(),
+        incidence: acos(normal.dot(-centre).clamp(-1.0, 1.0)),
         ..Pixel::EMPTY
     };
 
@@ -417,7 +417,7 @@ fn illuminate(
     if noise.specular.probability > 0.0 && material.specular > 0.0 {
         // the half vector lies within the lobe: its angle to the normal is below `lobe`
         let half = (light_dir - dir).normalize();
-        if normal.dot(half) > material.lobe.cos()
+        if normal.dot(half) > hit.lobe_cos
             && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
         {
             return None;
@@ -430,6 +430,26 @@ fn illuminate(
         shadow,
         rng,
     })
+}
+
+/// arccos of `x` in [-1, 1], within 5e-7 rad: the polynomial of Abramowitz and Stegun 4.4.46
+/// (error 2e-8 in exact arithmetic), a third of the cost of libm's `acosf`.
+#[inline]
+fn acos(x: f32) -> f32 {
+    const A: [f32; 8] = [
+        std::f32::consts::FRAC_PI_2, // 1.5707963050 rounds to it
+        -0.214_598_8,
+        0.088_978_99,
+        -0.050_174_3,
+        0.030_891_88,
+        -0.017_088_126,
+        0.006_670_09,
+        -0.001_262_491_1,
+    ];
+    let a = x.abs();
+    let p = A.iter().rev().fold(0.0, |p, &c| p * a + c);
+    let r = (1.0 - a).sqrt() * p;
+    if x < 0.0 { std::f32::consts::PI - r } else { r }
 }
 
 /// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
@@ -563,4 +583,19 @@ fn window_filter(scan: &mut Scan, window: usize, fraction: f32, inlier: f32) {
                 }
             }
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn acos_is_within_5e7_of_the_exact_angle() {
+        let worst = (-1_000_000..=1_000_000)
+            .map(|i| i as f32 / 1e6)
+            .chain([-1.0, -0.0, 0.0, 1.0, f32::EPSILON, 1.0 - f32::EPSILON / 2.0])
+            .map(|x| (acos(x) as f64 - (x as f64).acos()).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 5e-7, "worst error {worst}");
+    }
 }

@@ -90,6 +90,8 @@ pub struct Scene {
     tris: Vec<TriInfo>,
     instances: Vec<u32>,
     materials: Vec<Material>,
+    /// Per target, the cosine of its material's lobe width.
+    lobe_cos: Vec<f32>,
 }
 
 /// A ray's hit with everything the sensor models need.
@@ -107,6 +109,9 @@ pub struct SurfaceHit {
     pub instance: u32,
     /// Surface material.
     pub material: Material,
+    /// Cosine of the material's lobe width: the half vector lies in the highlight where its
+    /// cosine to the normal exceeds this.
+    pub lobe_cos: f32,
 }
 
 impl Scene {
@@ -136,6 +141,7 @@ impl Scene {
             tris,
             instances: targets.iter().map(|t| t.instance).collect(),
             materials: targets.iter().map(|t| t.material).collect(),
+            lobe_cos: targets.iter().map(|t| t.material.lobe.cos()).collect(),
         }
     }
 
@@ -246,6 +252,7 @@ impl Scene {
             class: info.class,
             instance: self.instances[info.target as usize],
             material: self.materials[info.target as usize],
+            lobe_cos: self.lobe_cos[info.target as usize],
         }
     }
 }
