@@ -244,17 +244,12 @@ fn cropped(
     jitter: [f32; 3],
     rng: &mut impl Rng,
 ) -> PointCloud {
-    let mut out = PointCloud::default();
-    for p in &scan.pixels {
+    let mut out = scan.points_where(|p| {
         let q = if clean { p.clean } else { p.point };
-        if q.x.is_nan() {
-            continue;
-        }
         let w = scan.pose.transform_point3(q);
-        if w.cmpge(crop.min).all() && w.cmple(crop.max).all() {
-            out.push(q, p.normal, p.intensity, p.class, p.instance);
-        }
-    }
+        // NaN (no point) compares false
+        (w.cmpge(crop.min).all() && w.cmple(crop.max).all()).then_some(q)
+    });
     if jitter.iter().any(|&j| j > 0.0) {
         let j = Vec3::from(jitter);
         for q in &mut out.xyz {

@@ -3,7 +3,7 @@
 use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::scan::Scan;
+use crate::scan::{Pixel, Scan};
 
 /// The frame a cloud is expressed in.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -76,6 +76,17 @@ impl PointCloud {
         self.xyz.is_empty()
     }
 
+    /// An empty cloud with room for `n` points.
+    pub fn with_capacity(n: usize) -> PointCloud {
+        PointCloud {
+            xyz: Vec::with_capacity(n),
+            normal: Vec::with_capacity(n),
+            intensity: Vec::with_capacity(n),
+            class: Vec::with_capacity(n),
+            instance: Vec::with_capacity(n),
+        }
+    }
+
     /// Appends one point.
     #[inline]
     pub fn push(&mut self, xyz: Vec3, normal: Vec3, intensity: f32, class: u16, instance: u32) {
@@ -101,13 +112,24 @@ impl Scan {
     /// The valid points of the scan (`clean`: the exact points instead of the measured ones), in
     /// `frame` and `units`, in pixel order.
     pub fn cloud(&self, clean: bool, frame: Frame, units: Units) -> PointCloud {
-        let mut out = PointCloud::default();
-        for p in &self.pixels {
+        let cloud = self.points_where(|p| {
             let point = if clean { p.clean } else { p.point };
-            if !point.x.is_nan() {
-                out.push(point, p.normal, p.intensity, p.class, p.instance);
+            (!point.x.is_nan()).then_some(point)
+        });
+        cloud.transformed(&frame.from_camera(&self.pose), units)
+    }
+
+    /// The pixels for which `point` gives a point (camera frame), with their normals, signal
+    /// and labels, in pixel order. `point` is called twice per pixel: once to count, once to
+    /// fill columns allocated to size.
+    pub fn points_where(&self, point: impl Fn(&Pixel) -> Option<Vec3>) -> PointCloud {
+        let n = self.pixels.iter().filter(|p| point(p).is_some()).count();
+        let mut out = PointCloud::with_capacity(n);
+        for p in &self.pixels {
+            if let Some(q) = point(p) {
+                out.push(q, p.normal, p.intensity, p.class, p.instance);
             }
         }
-        out.transformed(&frame.from_camera(&self.pose), units)
+        out
     }
 }

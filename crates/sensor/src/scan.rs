@@ -452,6 +452,19 @@ fn acos(x: f32) -> f32 {
     if x < 0.0 { std::f32::consts::PI - r } else { r }
 }
 
+/// `f32::round` (halves away from zero) without its libm call (baseline x86-64 has no rounding
+/// instruction): the integer part by a cast, then the fraction decides.
+#[inline]
+fn round(x: f32) -> f32 {
+    let a = x.abs();
+    if a.is_nan() || a >= 1e18 {
+        return x; // NaN, infinite, or already whole
+    }
+    let whole = a as i64 as f32;
+    let rounded = if a - whole >= 0.5 { whole + 1.0 } else { whole };
+    rounded.copysign(x)
+}
+
 /// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
 /// range noise, quantisation and the range limits.
 fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
@@ -479,7 +492,7 @@ fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
         let fb = k.fx as f32 * projector.baseline;
         let z = range * dir.z;
         let disparity = fb / z + disparity_sigma_px * rng.normal(stream::DISPARITY);
-        let disparity = (disparity * subpixel).round() / subpixel;
+        let disparity = round(disparity * subpixel) / subpixel;
         if disparity <= 0.0 {
             return;
         }
@@ -487,7 +500,7 @@ fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
     }
     range = range * bias.0 + bias.1;
     if noise.quantization > 0.0 {
-        range = (range / noise.quantization).round() * noise.quantization;
+        range = round(range / noise.quantization) * noise.quantization;
     }
     if !(sensor.min_range..=sensor.max_range).contains(&range) {
         return;
@@ -588,6 +601,29 @@ fn window_filter(scan: &mut Scan, window: usize, fraction: f32, inlier: f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn round_is_f32_round() {
+        let special = [
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            0.499_999_97,
+            8_388_607.5,
+            1e18,
+            f32::MAX,
+            -0.0,
+        ];
+        let values = (-200_000..200_000)
+            .map(|i| i as f32 * 0.25 + 0.1 * (i % 7) as f32)
+            .chain(special)
+            .chain([f32::INFINITY, f32::NEG_INFINITY]);
+        for x in values {
+            assert_eq!(round(x).to_bits(), x.round().to_bits(), "{x}");
+        }
+        assert!(round(f32::NAN).is_nan());
+    }
 
     #[test]
     fn acos_is_within_5e7_of_the_exact_angle() {

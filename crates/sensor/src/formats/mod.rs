@@ -99,6 +99,25 @@ pub const IMAGES: [(&str, ImageWriter); 7] = [
     ("intensity.png", write_intensity_png),
 ];
 
+/// Writes `rows`, each appended to a buffer by `put(row, buffer)`, to `w` in blocks of about
+/// 64 KiB: one call of the (dynamic) writer per block instead of one per field.
+fn write_rows<T>(
+    w: &mut dyn Write,
+    rows: impl IntoIterator<Item = T>,
+    mut put: impl FnMut(T, &mut Vec<u8>) -> Result<()>,
+) -> Result<()> {
+    const BLOCK: usize = 1 << 16;
+    let mut buffer = Vec::with_capacity(2 * BLOCK);
+    for row in rows {
+        put(row, &mut buffer)?;
+        if buffer.len() >= BLOCK {
+            w.write_all(&buffer)?;
+            buffer.clear();
+        }
+    }
+    w.write_all(&buffer)
+}
+
 fn depth_npy(w: &mut dyn Write, s: &Scan, clean: bool) -> Result<()> {
     let z = s
         .pixels

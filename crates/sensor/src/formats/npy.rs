@@ -2,6 +2,7 @@
 
 use std::io::{Cursor, Result, Write};
 
+use super::write_rows;
 use crate::cloud::PointCloud;
 
 /// Writes an NPY header for a C-order array of `dtype` (e.g. `<f4`) and `shape`.
@@ -31,10 +32,10 @@ fn array<T: Copy, const N: usize>(
     bytes: impl Fn(T) -> [u8; N],
 ) -> Result<()> {
     header(w, dtype, shape)?;
-    for v in values {
-        w.write_all(&bytes(v))?;
-    }
-    Ok(())
+    write_rows(w, values, |v, row| {
+        row.extend_from_slice(&bytes(v));
+        Ok(())
+    })
 }
 
 /// Writes the SynMotor training layout: float32 N×7 `x y z r g b label`, colours 0..1 from

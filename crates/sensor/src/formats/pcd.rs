@@ -2,6 +2,7 @@
 
 use std::io::{Result, Write};
 
+use super::write_rows;
 use crate::cloud::PointCloud;
 
 /// Writes fields `x y z normal_x normal_y normal_z intensity` (F4), `label` (U4, the class) and
@@ -16,22 +17,22 @@ pub fn write_pcd(w: &mut dyn Write, c: &PointCloud, binary: bool) -> Result<()> 
         if binary { "binary" } else { "ascii" },
         n = c.len()
     )?;
-    for i in 0..c.len() {
+    write_rows(w, 0..c.len(), |i, row| {
         let [x, y, z] = c.xyz[i].to_array();
         let [nx, ny, nz] = c.normal[i].to_array();
         let (intensity, label, instance) = (c.intensity[i], c.class[i] as u32, c.instance[i]);
         if binary {
             for f in [x, y, z, nx, ny, nz, intensity] {
-                w.write_all(&f.to_le_bytes())?;
+                row.extend_from_slice(&f.to_le_bytes());
             }
-            w.write_all(&label.to_le_bytes())?;
-            w.write_all(&instance.to_le_bytes())?;
+            row.extend_from_slice(&label.to_le_bytes());
+            row.extend_from_slice(&instance.to_le_bytes());
+            Ok(())
         } else {
             writeln!(
-                w,
+                row,
                 "{x} {y} {z} {nx} {ny} {nz} {intensity} {label} {instance}"
-            )?;
+            )
         }
-    }
-    Ok(())
+    })
 }

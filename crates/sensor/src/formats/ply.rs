@@ -2,6 +2,7 @@
 
 use std::io::{Result, Write};
 
+use super::write_rows;
 use crate::cloud::PointCloud;
 
 /// Writes `x y z nx ny nz intensity` (float), `class` (ushort) and `instance` (uint) per vertex.
@@ -13,9 +14,7 @@ pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
          property float nz\nproperty float intensity\nproperty ushort class\nproperty uint instance\nend_header\n",
         c.len()
     )?;
-    let mut row = Vec::with_capacity(34);
-    for i in 0..c.len() {
-        row.clear();
+    write_rows(w, 0..c.len(), |i, row| {
         for x in c.xyz[i]
             .to_array()
             .into_iter()
@@ -26,7 +25,6 @@ pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
         }
         row.extend_from_slice(&c.class[i].to_le_bytes());
         row.extend_from_slice(&c.instance[i].to_le_bytes());
-        w.write_all(&row)?;
-    }
-    Ok(())
+        Ok(())
+    })
 }
