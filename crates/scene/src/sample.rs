@@ -246,8 +246,10 @@ fn cropped(
 ) -> PointCloud {
     let mut out = scan.points_where(|p| {
         let q = if clean { p.clean } else { p.point };
+        if q.x.is_nan() {
+            return None;
+        }
         let w = scan.pose.transform_point3(q);
-        // NaN (no point) compares false
         (w.cmpge(crop.min).all() && w.cmple(crop.max).all()).then_some(q)
     });
     if jitter.iter().any(|&j| j > 0.0) {

@@ -120,15 +120,14 @@ impl Scan {
     }
 
     /// The pixels for which `point` gives a point (camera frame), with their normals, signal
-    /// and labels, in pixel order. `point` is called twice per pixel: once to count, once to
-    /// fill columns allocated to size.
+    /// and labels, in pixel order, in columns allocated to size (`point` is called again for
+    /// the pixels kept).
     pub fn points_where(&self, point: impl Fn(&Pixel) -> Option<Vec3>) -> PointCloud {
-        let n = self.pixels.iter().filter(|p| point(p).is_some()).count();
-        let mut out = PointCloud::with_capacity(n);
-        for p in &self.pixels {
-            if let Some(q) = point(p) {
-                out.push(q, p.normal, p.intensity, p.class, p.instance);
-            }
+        let kept: Vec<&Pixel> = self.pixels.iter().filter(|p| point(p).is_some()).collect();
+        let mut out = PointCloud::with_capacity(kept.len());
+        for p in kept {
+            let q = point(p).expect("a kept pixel has its point");
+            out.push(q, p.normal, p.intensity, p.class, p.instance);
         }
         out
     }

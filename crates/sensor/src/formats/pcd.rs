@@ -22,11 +22,10 @@ pub fn write_pcd(w: &mut dyn Write, c: &PointCloud, binary: bool) -> Result<()> 
         let [nx, ny, nz] = c.normal[i].to_array();
         let (intensity, label, instance) = (c.intensity[i], c.class[i] as u32, c.instance[i]);
         if binary {
-            for f in [x, y, z, nx, ny, nz, intensity] {
-                row.extend_from_slice(&f.to_le_bytes());
-            }
-            row.extend_from_slice(&label.to_le_bytes());
-            row.extend_from_slice(&instance.to_le_bytes());
+            let [x, y, z, nx, ny, nz, intensity] =
+                [x, y, z, nx, ny, nz, intensity].map(f32::to_bits);
+            let words = [x, y, z, nx, ny, nz, intensity, label, instance];
+            row.extend_from_slice(words.map(u32::to_le_bytes).as_flattened());
             Ok(())
         } else {
             writeln!(

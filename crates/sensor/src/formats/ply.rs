@@ -15,16 +15,14 @@ pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
         c.len()
     )?;
     write_rows(w, 0..c.len(), |i, row| {
-        for x in c.xyz[i]
-            .to_array()
-            .into_iter()
-            .chain(c.normal[i].to_array())
-            .chain([c.intensity[i]])
-        {
-            row.extend_from_slice(&x.to_le_bytes());
-        }
-        row.extend_from_slice(&c.class[i].to_le_bytes());
-        row.extend_from_slice(&c.instance[i].to_le_bytes());
+        let [x, y, z] = c.xyz[i].to_array();
+        let [nx, ny, nz] = c.normal[i].to_array();
+        let floats = [x, y, z, nx, ny, nz, c.intensity[i]].map(f32::to_le_bytes);
+        let mut record = [0u8; 34];
+        record[..28].copy_from_slice(floats.as_flattened());
+        record[28..30].copy_from_slice(&c.class[i].to_le_bytes());
+        record[30..].copy_from_slice(&c.instance[i].to_le_bytes());
+        row.extend_from_slice(&record);
         Ok(())
     })
 }
