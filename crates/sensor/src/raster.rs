@@ -86,8 +86,6 @@ struct Drawn {
     edges: [DVec3; 3],
     /// How far below zero an edge value may be and still count as inside.
     margin: [f64; 3],
-    /// Their sum.
-    margins: f64,
     /// 1 / |a · (b × c)|: the hit's inverse depth along d is the sum of the edge values times
     /// this.
     inv_volume: f64,
@@ -184,10 +182,13 @@ pub(crate) fn visibility(
                 let d = camera
                     .draw(&tris[slot as usize])
                     .expect("members are drawn");
+                // the sum of the edge values, the plane's: the depth, tested first
+                let plane = d.edges[0] + d.edges[1] + d.edges[2];
                 for r in d.rows.start.max(band_rows.start)..d.rows.end.min(band_rows.end) {
                     let y = ys[r - rows.start];
                     // edge values plus margins: all non-negative inside
                     let at_row = [0, 1, 2].map(|i| d.edges[i].y * y + d.edges[i].z + d.margin[i]);
+                    let plane_at_row = plane.y * y + plane.z;
                     let span = d.span(r);
                     let (from, to) = (span.start - cols.start, span.end - cols.start);
                     let line = (r - band_rows.start) * w;
@@ -195,9 +196,12 @@ pub(crate) fn visibility(
                         .iter_mut()
                         .zip(&xs[from..to])
                     {
+                        let inverse_depth = (plane.x * x + plane_at_row) * d.inv_volume;
+                        if inverse_depth <= n.depth[1] {
+                            continue; // behind the two nearest (most hidden pixels end here)
+                        }
                         let e = [0, 1, 2].map(|i| d.edges[i].x * x + at_row[i]);
-                        let inverse_depth = (e[0] + e[1] + e[2] - d.margins) * d.inv_volume;
-                        if e[0].min(e[1]).min(e[2]) >= 0.0 && inverse_depth > n.depth[1] {
+                        if e[0].min(e[1]).min(e[2]) >= 0.0 {
                             // slots arrive in increasing order: the lower of equals stays first
                             if inverse_depth > n.depth[0] {
                                 n.depth = [inverse_depth, n.depth[0]];
@@ -314,7 +318,6 @@ impl<'a> Camera<'a> {
             columns: column_bounds(&edges, &margin, k, rows.end as f64),
             edges,
             margin,
-            margins: margin.iter().sum(),
             inv_volume: 1.0 / volume.abs(),
             cols,
             rows,

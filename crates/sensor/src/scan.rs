@@ -178,7 +178,7 @@ fn scan_pixels(
         seed,
         bias,
     };
-    pixels.clear();
+    // whatever a reused buffer holds is overwritten below, block by block while it is in cache
     pixels.resize(width * k.height as usize, Pixel::EMPTY);
     let [c0, c1, r0, r1] = region.and_then(|reg| reg.pixel_window(k, pose)).unwrap_or([
         0,
@@ -201,9 +201,17 @@ fn scan_pixels(
         .for_each(|(band, out)| {
             let rows = out.len() / width;
             if BLOCK * band + rows <= r0 || BLOCK * band >= r1 {
+                out.fill(Pixel::EMPTY);
                 return; // outside the region's window: nothing to cast
             }
+            for line in out.chunks_mut(width) {
+                line[..cols.start].fill(Pixel::EMPTY);
+                line[cols.end..].fill(Pixel::EMPTY);
+            }
             for col in cols.clone().step_by(BLOCK) {
+                for line in out.chunks_mut(width) {
+                    line[col..(col + BLOCK).min(width)].fill(Pixel::EMPTY);
+                }
                 // per lane of each 2×2 group: its pixel's (column, row in the band), or none
                 // past the image's edge or outside the region
                 let mut at = [[None; 4]; GROUPS];
@@ -373,7 +381,13 @@ fn illuminate(
     let (dir, range) = if noise.lateral_px > 0.0 {
         let du = noise.lateral_px * rng.normal(stream::LATERAL);
         let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
-        let d = k.ray(col as f64 + du as f64, row as f64 + dv as f64);
+        let d = if k.distortion.is_none() {
+            // a pinhole's: the centre ray's image point, moved
+            let shift = Vec3::new(du / k.fx as f32, dv / k.fy as f32, 0.0);
+            (centre / centre.z + shift).normalize()
+        } else {
+            k.ray(col as f64 + du as f64, row as f64 + dv as f64)
+        };
         let facing = normal.dot(d);
         if facing.abs() < 1e-6 {
             return None; // grazing: the jittered ray runs along the surface
