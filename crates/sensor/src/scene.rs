@@ -88,10 +88,16 @@ struct TriInfo {
 pub struct Scene {
     bvh: Bvh,
     tris: Vec<TriInfo>,
-    instances: Vec<u32>,
-    materials: Vec<Material>,
-    /// Per target, the cosine of its material's lobe width.
-    lobe_cos: Vec<f32>,
+    /// Per target, what its hits carry.
+    surfaces: Vec<Surface>,
+}
+
+/// A target's instance and material, with the material's lobe cosine worked out once.
+#[derive(Clone, Copy, Debug)]
+struct Surface {
+    instance: u32,
+    material: Material,
+    lobe_cos: f32,
 }
 
 /// A ray's hit with everything the sensor models need.
@@ -139,9 +145,14 @@ impl Scene {
         Scene {
             bvh: Bvh::build(&corners),
             tris,
-            instances: targets.iter().map(|t| t.instance).collect(),
-            materials: targets.iter().map(|t| t.material).collect(),
-            lobe_cos: targets.iter().map(|t| t.material.lobe.cos()).collect(),
+            surfaces: targets
+                .iter()
+                .map(|t| Surface {
+                    instance: t.instance,
+                    material: t.material,
+                    lobe_cos: t.material.lobe.cos(),
+                })
+                .collect(),
         }
     }
 
@@ -240,6 +251,7 @@ impl Scene {
 
     fn describe(&self, t: f32, triangle: u32, dir: Vec3) -> SurfaceHit {
         let info = self.tris[triangle as usize];
+        let surface = self.surfaces[info.target as usize];
         let normal = if info.normal.dot(dir) > 0.0 {
             -info.normal
         } else {
@@ -250,9 +262,9 @@ impl Scene {
             triangle,
             normal,
             class: info.class,
-            instance: self.instances[info.target as usize],
-            material: self.materials[info.target as usize],
-            lobe_cos: self.lobe_cos[info.target as usize],
+            instance: surface.instance,
+            material: surface.material,
+            lobe_cos: surface.lobe_cos,
         }
     }
 }
