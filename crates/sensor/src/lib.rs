@@ -6,6 +6,7 @@
 pub mod bvh;
 pub mod camera;
 pub mod cloud;
+mod epipolar;
 mod error;
 pub mod formats;
 pub mod noise;

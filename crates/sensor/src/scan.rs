@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use crate::bvh::lanes;
 use crate::camera::Intrinsics;
+use crate::epipolar::{CutScratch, Epipolar, Ray};
 use crate::noise::{PixelRng, stream};
 use crate::scene::{Scene, SurfaceHit};
 use crate::sensor::{Frustum, Model, SensorSpec};
@@ -192,13 +193,20 @@ fn scan_pixels(
     let cols = c0 - c0 % BLOCK..(c1.div_ceil(BLOCK) * BLOCK).min(width);
     let rows = r0 - r0 % BLOCK..(r1.div_ceil(BLOCK) * BLOCK).min(k.height as usize);
     let draw = k.distortion.is_none() && 3 * cols.len() * rows.len() >= scene.triangle_count();
-    let visibility = draw.then(|| scene.visibility(k, pose, cols.clone(), rows));
+    let visibility = draw.then(|| scene.visibility(k, pose, cols.clone(), rows.clone()));
+    let shadows = match sensor.projector() {
+        None => Shadows::None,
+        Some(p) if draw => {
+            Shadows::Epipolar(scene.epipolar(k, pose, p, rows.clone(), BLOCK, sensor.max_range))
+        }
+        Some(_) => Shadows::Rays,
+    };
     // bands of BLOCK rows, cast in BLOCK×BLOCK blocks of pixels traced together
     let origin = Vec3::from(pose.translation);
     pixels
         .par_chunks_mut(BLOCK * width)
         .enumerate()
-        .for_each(|(band, out)| {
+        .for_each_init(Band::default, |scratch, (band, out)| {
             let rows = out.len() / width;
             if BLOCK * band + rows <= r0 || BLOCK * band >= r1 {
                 out.fill(Pixel::EMPTY);
@@ -208,6 +216,11 @@ fn scan_pixels(
                 line[..cols.start].fill(Pixel::EMPTY);
                 line[cols.end..].fill(Pixel::EMPTY);
             }
+            // the band's pixels lit up to the projector's visibility, by row, then column
+            let span = cols.len();
+            let lits = &mut scratch.lits;
+            lits.clear();
+            lits.resize(rows * span, None);
             for col in cols.clone().step_by(BLOCK) {
                 for line in out.chunks_mut(width) {
                     line[col..(col + BLOCK).min(width)].fill(Pixel::EMPTY);
@@ -219,8 +232,7 @@ fn scan_pixels(
                 let mut dirs = [[Vec3::Z; 4]; GROUPS];
                 let mut t_max = [[0.0; 4]; GROUPS];
                 for (g, lane) in lanes::<GROUPS>() {
-                    let c = col + 2 * (g % (BLOCK / 2)) + lane % 2;
-                    let r = 2 * (g / (BLOCK / 2)) + lane / 2;
+                    let (c, r) = block_pixel(col, g, lane);
                     if c >= width || r >= rows {
                         continue;
                     }
@@ -249,20 +261,20 @@ fn scan_pixels(
                     }
                     None => scene.cast_packet(origin, &dirs, &t_max),
                 };
-                // labels and the light first, then the shadow rays together, then the rest
-                let mut lit: [[Option<Lit>; 4]; GROUPS] = Default::default();
                 for (g, lane) in lanes::<GROUPS>() {
                     if let (Some((c, r)), Some(hit)) = (at[g][lane], hits[g][lane]) {
                         let (row, px) = (BLOCK * band + r, &mut out[r * width + c]);
-                        lit[g][lane] = illuminate(&setup, c, row, centres[g][lane], hit, px);
+                        lits[r * span + c - cols.start] =
+                            illuminate(&setup, c, row, centres[g][lane], hit, px);
                     }
                 }
-                let shadows = setup.shadowed(&lit);
-                for (g, lane) in lanes::<GROUPS>() {
-                    if let (Some(lit), Some((c, r))) = (&lit[g][lane], at[g][lane])
-                        && !shadows[g][lane]
-                    {
-                        finish(&setup, lit, &mut out[r * width + c]);
+            }
+            setup.shade(&shadows, band, &cols, scratch);
+            for (r, line) in scratch.lits.chunks(span).enumerate() {
+                let out = &mut out[r * width + cols.start..][..span];
+                for (lit, px) in line.iter().zip(out) {
+                    if let Some(lit) = lit {
+                        finish(&setup, lit, px);
                     }
                 }
             }
@@ -302,27 +314,103 @@ struct Setup<'a> {
 }
 
 impl Setup<'_> {
-    /// Which of a block's lit points lie in the projector's shadow, tested as one packet.
-    fn shadowed(&self, lit: &[[Option<Lit>; 4]; GROUPS]) -> [[bool; 4]; GROUPS] {
-        let mut dirs = [[Vec3::Z; 4]; GROUPS];
-        let mut t_max = [[0.0; 4]; GROUPS];
-        let mut any = false;
-        for (g, lane) in lanes::<GROUPS>() {
-            if let Some(Lit {
-                shadow: Some((dir, length)),
-                ..
-            }) = lit[g][lane]
-            {
-                (dirs[g][lane], t_max[g][lane], any) = (dir, length, true);
+    /// Drops the lit pixels of a band whose surface point the projector does not reach.
+    fn shade(&self, shadows: &Shadows, band: usize, cols: &Range<usize>, scratch: &mut Band) {
+        let span = cols.len();
+        let Band { lits, rays, cut } = scratch;
+        match shadows {
+            Shadows::None => {}
+            Shadows::Epipolar(epipolar) => {
+                for (r, line) in lits.chunks_mut(span).enumerate() {
+                    rays.clear();
+                    for (i, lit) in line.iter().enumerate() {
+                        if let Some(Lit {
+                            shadow: Some((point, distance)),
+                            ..
+                        }) = lit
+                        {
+                            rays.push((i, epipolar.ray(*point, *distance, gap(*distance))));
+                        }
+                    }
+                    let ends = rays.iter().map(|&(_, ray)| ray);
+                    let cut = epipolar.cut(BLOCK * band + r, ends, cut);
+                    for &(i, ray) in rays.iter() {
+                        if cut.blocks(ray) {
+                            line[i] = None;
+                        }
+                    }
+                }
+            }
+            Shadows::Rays => {
+                let projector = self.sensor.projector().map_or(Vec3::ZERO, |p| p.centre());
+                let from = self.pose.transform_point3(projector);
+                let rows = lits.len() / span;
+                for col in cols.clone().step_by(BLOCK) {
+                    // the block's shadow rays, world frame, as one packet
+                    let mut dirs = [[Vec3::Z; 4]; GROUPS];
+                    let mut t_max = [[0.0; 4]; GROUPS];
+                    for (g, lane) in lanes::<GROUPS>() {
+                        let (c, r) = block_pixel(col, g, lane);
+                        let lit =
+                            (c < cols.end && r < rows).then(|| &lits[r * span + c - cols.start]);
+                        if let Some(Some(Lit {
+                            shadow: Some((point, distance)),
+                            ..
+                        })) = lit
+                        {
+                            let dir = (*point - projector) / *distance;
+                            dirs[g][lane] = self.pose.transform_vector3(dir);
+                            t_max[g][lane] = distance - gap(*distance);
+                        }
+                    }
+                    let blocked = self.scene.occluded_packet(from, &dirs, &t_max);
+                    for (g, lane) in lanes::<GROUPS>() {
+                        let (c, r) = block_pixel(col, g, lane);
+                        if blocked[g][lane] {
+                            lits[r * span + c - cols.start] = None;
+                        }
+                    }
+                }
             }
         }
-        if !any {
-            return [[false; 4]; GROUPS];
-        }
-        let projector = self.sensor.projector().map_or(Vec3::ZERO, |p| p.centre());
-        let from = self.pose.transform_point3(projector);
-        self.scene.occluded_packet(from, &dirs, &t_max)
     }
+}
+
+/// How a scan finds the projector's shadows.
+enum Shadows {
+    /// The sensor lights from the camera: none.
+    None,
+    /// Cut in the epipolar planes of the pixel rows (a pinhole camera).
+    Epipolar(Epipolar),
+    /// A shadow ray per pixel, traced in packets of a block.
+    Rays,
+}
+
+/// What a task keeps from band to band.
+#[derive(Default)]
+struct Band {
+    /// The band's pixels measured up to the projector's visibility, row by row over the
+    /// window's columns.
+    lits: Vec<Option<Lit>>,
+    /// One row's shadow rays, by position in the row.
+    rays: Vec<(usize, Ray)>,
+    cut: CutScratch,
+}
+
+/// How far short of its surface point a shadow ray at `distance` m ends, m: beyond the float32
+/// rounding of the point, so that its own surface does not shadow it.
+pub(crate) fn gap(distance: f32) -> f32 {
+    (distance * 1e-4).max(1e-5)
+}
+
+/// The pixel of lane `lane` of group `g` of the block at column `col`: (column, row in the
+/// band).
+#[inline]
+fn block_pixel(col: usize, g: usize, lane: usize) -> (usize, usize) {
+    (
+        col + 2 * (g % (BLOCK / 2)) + lane % 2,
+        2 * (g / (BLOCK / 2)) + lane / 2,
+    )
 }
 
 /// Pixels per side of the blocks a scan casts as one packet.
@@ -331,6 +419,7 @@ const BLOCK: usize = 4;
 const GROUPS: usize = BLOCK * BLOCK / 4;
 
 /// A pixel measured up to the projector's visibility: what [`finish`] needs once that is known.
+#[derive(Clone, Copy)]
 struct Lit {
     /// Direction of the (possibly jittered) sampling ray, camera frame.
     dir: Vec3,
@@ -338,15 +427,16 @@ struct Lit {
     range: f32,
     /// Signal strength at the point.
     signal: f32,
-    /// The shadow ray, world frame, towards the surface from the projector: direction and
-    /// length (none for sensors that light from the camera).
+    /// The surface point the projector must reach (camera frame) and its distance from the
+    /// projector (none for sensors that light from the camera).
     shadow: Option<(Vec3, f32)>,
     rng: PixelRng,
 }
 
 /// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to the
-/// projector's visibility: where it samples, its light, signal and dropouts (which need no
-/// shadow ray, so lost pixels cast none); `None` when it can have no point.
+/// projector's visibility: the light at the surface point it sees, its signal and dropouts
+/// (which need no shadow test, so lost pixels have none) and where it samples; `None` when it
+/// can have no point.
 fn illuminate(
     setup: &Setup,
     col: usize,
@@ -399,27 +489,24 @@ fn illuminate(
     if range.is_nan() || range < sensor.min_range {
         return None;
     }
-    let point = dir * range;
 
-    // illumination: the projector, or the camera itself
+    // illumination of the surface point the pixel sees (jitter moves where it is measured, not
+    // where the light falls): the projector, or the camera itself
+    let surface = px.clean;
     let ((light_dir, light_range), shadow) = match (sensor.projector(), frustum) {
         (Some(projector), Some(frustum)) => {
-            if !frustum.lights(point) {
+            if !frustum.lights(surface) {
                 return None;
             }
-            let to_light = projector.centre() - point;
+            let to_light = projector.centre() - surface;
             let distance = to_light.length();
             let l = to_light / distance;
             if normal.dot(l) <= 0.0 {
                 return None; // self-shadowed: the surface faces away from the projector
             }
-            let gap = (distance * 1e-4).max(1e-5);
-            (
-                (l, distance),
-                Some((pose.transform_vector3(-l), distance - gap)),
-            )
+            ((l, distance), Some((surface, distance)))
         }
-        _ => ((-dir, range), None),
+        _ => ((-centre, hit.t), None),
     };
 
     let material = hit.material;
@@ -430,7 +517,7 @@ fn illuminate(
     }
     if noise.specular.probability > 0.0 && material.specular > 0.0 {
         // the half vector lies within the lobe: its angle to the normal is below `lobe`
-        let half = (light_dir - dir).normalize();
+        let half = (light_dir - centre).normalize();
         if normal.dot(half) > hit.lobe_cos
             && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
         {

@@ -7,7 +7,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::bvh::{Bvh, lanes};
 use crate::camera::Intrinsics;
+use crate::epipolar::Epipolar;
 use crate::raster::{self, Drawing, Visibility};
+use crate::sensor::Projector;
 
 /// How a surface returns light, as the noise models read it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -216,6 +218,29 @@ impl Scene {
         rows: Range<usize>,
     ) -> Visibility {
         raster::visibility(self.bvh.slots(), k, pose, cols, rows)
+    }
+
+    /// The scene cut in the epipolar planes of a pinhole camera's rows `rows` (taken in bands
+    /// of [`crate::scan`]'s blocks) for the shadow rays of `projector` (see
+    /// [`crate::epipolar`]).
+    pub(crate) fn epipolar(
+        &self,
+        k: &Intrinsics,
+        pose: &Affine3A,
+        projector: &Projector,
+        rows: Range<usize>,
+        band_rows: usize,
+        max_range: f32,
+    ) -> Epipolar {
+        Epipolar::new(
+            self.bvh.slots(),
+            pose,
+            k,
+            projector.baseline,
+            rows,
+            band_rows,
+            max_range,
+        )
     }
 
     /// The closest surface along a unit ray within `t_max`, given what was drawn at its pixel
