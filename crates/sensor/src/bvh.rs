@@ -195,23 +195,9 @@ impl Bvh {
         self.tris.is_empty()
     }
 
-    /// The triangles by slot (leaf order), as [`Bvh::hit_slot`] names them.
+    /// The triangles by slot (leaf order).
     pub(crate) fn slots(&self) -> &[Tri] {
         &self.tris
-    }
-
-    /// Where the ray `origin + t·dir`, `t` > 0, meets the triangle in `slot`, with the bits
-    /// the walk's test gives.
-    #[inline]
-    pub(crate) fn hit_slot(&self, slot: u32, origin: Vec3, dir: Vec3) -> Option<Hit> {
-        ShearedRay::new(origin, dir)
-            .intersect(&self.tris[slot as usize], f32::INFINITY)
-            .map(|(t, u, v)| Hit {
-                t,
-                triangle: self.triangle(slot),
-                u,
-                v,
-            })
     }
 
     /// The input index of the triangle in `slot`.

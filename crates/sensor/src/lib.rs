@@ -10,7 +10,6 @@ mod epipolar;
 mod error;
 pub mod formats;
 pub mod noise;
-mod raster;
 pub mod scan;
 pub mod scene;
 pub mod sensor;

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::bvh::lanes;
 use crate::camera::Intrinsics;
-use crate::epipolar::{CutScratch, Epipolar, Ray};
+use crate::epipolar::{Epipolar, Ray, RowCut};
 use crate::noise::{PixelRng, stream};
 use crate::scene::{Scene, SurfaceHit};
 use crate::sensor::{Frustum, Model, SensorSpec};
@@ -171,15 +171,7 @@ fn scan_pixels(
             b.offset_sigma * rng.normal(stream::BIAS + 2),
         )
     };
-    let setup = Setup {
-        scene,
-        sensor,
-        frustum: sensor.projector().map(|p| p.frustum()),
-        pose: *pose,
-        seed,
-        bias,
-    };
-    // whatever a reused buffer holds is overwritten below, block by block while it is in cache
+    // whatever a reused buffer holds is overwritten below, band by band while it is in cache
     pixels.resize(width * k.height as usize, Pixel::EMPTY);
     let [c0, c1, r0, r1] = region.and_then(|reg| reg.pixel_window(k, pose)).unwrap_or([
         0,
@@ -187,22 +179,24 @@ fn scan_pixels(
         0,
         k.height as usize,
     ]);
-    // the pixels the blocks below may cast, and, for a pinhole camera, their candidate
-    // triangles drawn all at once: confirming a candidate costs a fraction of a ray's walk,
-    // drawing a triangle about a third of one, so a few pixels on a large mesh are cast
+    // the pixels the bands below may cast, and, for a pinhole camera, the scene prepared to be
+    // cut in their rows' planes: cutting a triangle costs a fraction of a ray's walk, so only a
+    // few pixels on a large mesh are cast ray by ray
     let cols = c0 - c0 % BLOCK..(c1.div_ceil(BLOCK) * BLOCK).min(width);
     let rows = r0 - r0 % BLOCK..(r1.div_ceil(BLOCK) * BLOCK).min(k.height as usize);
-    let draw = k.distortion.is_none() && 3 * cols.len() * rows.len() >= scene.triangle_count();
-    let visibility = draw.then(|| scene.visibility(k, pose, cols.clone(), rows.clone()));
-    let shadows = match sensor.projector() {
-        None => Shadows::None,
-        Some(p) if draw => {
-            Shadows::Epipolar(scene.epipolar(k, pose, p, rows.clone(), BLOCK, sensor.max_range))
-        }
-        Some(_) => Shadows::Rays,
+    let cut = k.distortion.is_none() && 3 * cols.len() * rows.len() >= scene.triangle_count();
+    let baseline = sensor.projector().map_or(0.0, |p| p.baseline);
+    let setup = Setup {
+        scene,
+        sensor,
+        frustum: sensor.projector().map(|p| p.frustum()),
+        pose: *pose,
+        origin: Vec3::from(pose.translation),
+        region: region.copied(),
+        seed,
+        bias,
+        epipolar: cut.then(|| scene.epipolar(k, pose, baseline, rows, BLOCK, sensor.max_range)),
     };
-    // bands of BLOCK rows, cast in BLOCK×BLOCK blocks of pixels traced together
-    let origin = Vec3::from(pose.translation);
     pixels
         .par_chunks_mut(BLOCK * width)
         .enumerate()
@@ -216,60 +210,13 @@ fn scan_pixels(
                 line[..cols.start].fill(Pixel::EMPTY);
                 line[cols.end..].fill(Pixel::EMPTY);
             }
-            // the band's pixels lit up to the projector's visibility, by row, then column
             let span = cols.len();
-            let lits = &mut scratch.lits;
-            lits.clear();
-            lits.resize(rows * span, None);
-            for col in cols.clone().step_by(BLOCK) {
-                for line in out.chunks_mut(width) {
-                    line[col..(col + BLOCK).min(width)].fill(Pixel::EMPTY);
-                }
-                // per lane of each 2×2 group: its pixel's (column, row in the band), or none
-                // past the image's edge or outside the region
-                let mut at = [[None; 4]; GROUPS];
-                let mut centres = [[Vec3::Z; 4]; GROUPS];
-                let mut dirs = [[Vec3::Z; 4]; GROUPS];
-                let mut t_max = [[0.0; 4]; GROUPS];
-                for (g, lane) in lanes::<GROUPS>() {
-                    let (c, r) = block_pixel(col, g, lane);
-                    if c >= width || r >= rows {
-                        continue;
-                    }
-                    let centre = k.ray(c as f64, (BLOCK * band + r) as f64);
-                    let dir = pose.transform_vector3(centre);
-                    if region.is_none_or(|reg| reg.crossed_by(origin, dir)) {
-                        at[g][lane] = Some((c, r));
-                        (centres[g][lane], dirs[g][lane]) = (centre, dir);
-                        t_max[g][lane] = sensor.max_range;
-                    }
-                }
-                if at.iter().flatten().all(Option::is_none) {
-                    continue; // nothing to cast: the pixels stay empty
-                }
-                let hits = match &visibility {
-                    Some(visibility) => {
-                        let mut hits = [[None; 4]; GROUPS];
-                        for (g, lane) in lanes::<GROUPS>() {
-                            if let Some((c, r)) = at[g][lane] {
-                                let drawn = visibility.at(c, BLOCK * band + r);
-                                let (dir, t_max) = (dirs[g][lane], t_max[g][lane]);
-                                hits[g][lane] = scene.first_hit(drawn, origin, dir, t_max);
-                            }
-                        }
-                        hits
-                    }
-                    None => scene.cast_packet(origin, &dirs, &t_max),
-                };
-                for (g, lane) in lanes::<GROUPS>() {
-                    if let (Some((c, r)), Some(hit)) = (at[g][lane], hits[g][lane]) {
-                        let (row, px) = (BLOCK * band + r, &mut out[r * width + c]);
-                        lits[r * span + c - cols.start] =
-                            illuminate(&setup, c, row, centres[g][lane], hit, px);
-                    }
-                }
+            scratch.lits.clear();
+            scratch.lits.resize(rows * span, None);
+            match &setup.epipolar {
+                Some(epipolar) => setup.cut_rows(epipolar, band, &cols, out, scratch),
+                None => setup.cast_blocks(band, &cols, out, &mut scratch.lits),
             }
-            setup.shade(&shadows, band, &cols, scratch);
             for (r, line) in scratch.lits.chunks(span).enumerate() {
                 let out = &mut out[r * width + cols.start..][..span];
                 for (lit, px) in line.iter().zip(out) {
@@ -308,82 +255,147 @@ struct Setup<'a> {
     /// The projector's frustum, for sensors that have one.
     frustum: Option<Frustum>,
     pose: Affine3A,
+    /// The camera's centre, world frame.
+    origin: Vec3,
+    /// Pixels whose centre ray misses this stay empty.
+    region: Option<Region>,
     seed: u64,
     /// Per-scan range scale and offset.
     bias: (f32, f32),
+    /// The scene prepared to be cut in the rows' epipolar planes (a pinhole camera).
+    epipolar: Option<Epipolar>,
 }
 
 impl Setup<'_> {
-    /// Drops the lit pixels of a band whose surface point the projector does not reach.
-    fn shade(&self, shadows: &Shadows, band: usize, cols: &Range<usize>, scratch: &mut Band) {
-        let span = cols.len();
-        let Band { lits, rays, cut } = scratch;
-        match shadows {
-            Shadows::None => {}
-            Shadows::Epipolar(epipolar) => {
-                for (r, line) in lits.chunks_mut(span).enumerate() {
-                    rays.clear();
-                    for (i, lit) in line.iter().enumerate() {
-                        if let Some(Lit {
-                            shadow: Some((point, distance)),
-                            ..
-                        }) = lit
-                        {
-                            rays.push((i, epipolar.ray(*point, *distance, gap(*distance))));
-                        }
-                    }
-                    let ends = rays.iter().map(|&(_, ray)| ray);
-                    let cut = epipolar.cut(BLOCK * band + r, ends, cut);
-                    for &(i, ray) in rays.iter() {
-                        if cut.blocks(ray) {
-                            line[i] = None;
-                        }
-                    }
+    /// Whether the centre ray of a pixel, world frame, may hold a point.
+    fn casts(&self, dir: Vec3) -> bool {
+        self.region
+            .is_none_or(|reg| reg.crossed_by(self.origin, dir))
+    }
+
+    /// Measures the band's pixels over `cols` in its rows' epipolar planes, row by row: each
+    /// pixel's first surface, its light, and the projector's shadows.
+    fn cut_rows(
+        &self,
+        epipolar: &Epipolar,
+        band: usize,
+        cols: &Range<usize>,
+        out: &mut [Pixel],
+        scratch: &mut Band,
+    ) {
+        let k = &self.sensor.intrinsics;
+        let Band {
+            lits,
+            hits,
+            rays,
+            cut,
+        } = scratch;
+        let lines = out.chunks_mut(k.width as usize);
+        for (r, (line, lits)) in lines.zip(lits.chunks_mut(cols.len())).enumerate() {
+            let row = BLOCK * band + r;
+            line[cols.clone()].fill(Pixel::EMPTY);
+            epipolar.cut(row, cut);
+            epipolar.first_hits(cut, cols, hits);
+            for ((c, hit), lit) in cols.clone().zip(hits.iter()).zip(lits.iter_mut()) {
+                let Some((slot, t)) = *hit else { continue };
+                let centre = k.ray(c as f64, row as f64);
+                let dir = self.pose.transform_vector3(centre);
+                if self.casts(dir) {
+                    let hit = self.scene.describe_slot(slot, t, dir);
+                    *lit = illuminate(self, c, row, centre, hit, &mut line[c]);
                 }
             }
-            Shadows::Rays => {
-                let projector = self.sensor.projector().map_or(Vec3::ZERO, |p| p.centre());
-                let from = self.pose.transform_point3(projector);
-                let rows = lits.len() / span;
-                for col in cols.clone().step_by(BLOCK) {
-                    // the block's shadow rays, world frame, as one packet
-                    let mut dirs = [[Vec3::Z; 4]; GROUPS];
-                    let mut t_max = [[0.0; 4]; GROUPS];
-                    for (g, lane) in lanes::<GROUPS>() {
-                        let (c, r) = block_pixel(col, g, lane);
-                        let lit =
-                            (c < cols.end && r < rows).then(|| &lits[r * span + c - cols.start]);
-                        if let Some(Some(Lit {
-                            shadow: Some((point, distance)),
-                            ..
-                        })) = lit
-                        {
-                            let dir = (*point - projector) / *distance;
-                            dirs[g][lane] = self.pose.transform_vector3(dir);
-                            t_max[g][lane] = distance - gap(*distance);
-                        }
-                    }
-                    let blocked = self.scene.occluded_packet(from, &dirs, &t_max);
-                    for (g, lane) in lanes::<GROUPS>() {
-                        let (c, r) = block_pixel(col, g, lane);
-                        if blocked[g][lane] {
-                            lits[r * span + c - cols.start] = None;
-                        }
-                    }
+            if self.frustum.is_none() {
+                continue; // no projector
+            }
+            rays.clear();
+            for (i, lit) in lits.iter().enumerate() {
+                if let Some(Lit {
+                    shadow: Some((point, distance)),
+                    ..
+                }) = lit
+                {
+                    rays.push((i, epipolar.ray(*point, *distance, gap(*distance))));
+                }
+            }
+            let shadows = epipolar.shadows(cut, rays.iter().map(|&(_, ray)| ray));
+            for &(i, ray) in rays.iter() {
+                if shadows.block(ray) {
+                    lits[i] = None;
                 }
             }
         }
     }
-}
 
-/// How a scan finds the projector's shadows.
-enum Shadows {
-    /// The sensor lights from the camera: none.
-    None,
-    /// Cut in the epipolar planes of the pixel rows (a pinhole camera).
-    Epipolar(Epipolar),
-    /// A shadow ray per pixel, traced in packets of a block.
-    Rays,
+    /// Measures the band's pixels over `cols` in BLOCK×BLOCK blocks, each cast as one packet of
+    /// rays, then its shadow rays as another.
+    fn cast_blocks(
+        &self,
+        band: usize,
+        cols: &Range<usize>,
+        out: &mut [Pixel],
+        lits: &mut [Option<Lit>],
+    ) {
+        let k = &self.sensor.intrinsics;
+        let (width, span) = (k.width as usize, cols.len());
+        let rows = lits.len() / span;
+        for col in cols.clone().step_by(BLOCK) {
+            for line in out.chunks_mut(width) {
+                line[col..(col + BLOCK).min(width)].fill(Pixel::EMPTY);
+            }
+            // per lane of each 2×2 group: its pixel's (column, row in the band), or none past
+            // the image's edge or outside the region
+            let mut at = [[None; 4]; GROUPS];
+            let mut centres = [[Vec3::Z; 4]; GROUPS];
+            let mut dirs = [[Vec3::Z; 4]; GROUPS];
+            let mut t_max = [[0.0; 4]; GROUPS];
+            for (g, lane) in lanes::<GROUPS>() {
+                let (c, r) = block_pixel(col, g, lane);
+                if c >= width || r >= rows {
+                    continue;
+                }
+                let centre = k.ray(c as f64, (BLOCK * band + r) as f64);
+                let dir = self.pose.transform_vector3(centre);
+                if self.casts(dir) {
+                    at[g][lane] = Some((c, r));
+                    (centres[g][lane], dirs[g][lane]) = (centre, dir);
+                    t_max[g][lane] = self.sensor.max_range;
+                }
+            }
+            if at.iter().flatten().all(Option::is_none) {
+                continue; // nothing to cast: the pixels stay empty
+            }
+            let hits = self.scene.cast_packet(self.origin, &dirs, &t_max);
+            // the shadow rays, world frame, towards the lit surface points from the projector
+            let projector = self.sensor.projector().map_or(Vec3::ZERO, |p| p.centre());
+            let mut shadow = [[Vec3::Z; 4]; GROUPS];
+            let mut length = [[0.0; 4]; GROUPS];
+            for (g, lane) in lanes::<GROUPS>() {
+                if let (Some((c, r)), Some(hit)) = (at[g][lane], hits[g][lane]) {
+                    let (row, px) = (BLOCK * band + r, &mut out[r * width + c]);
+                    let lit = illuminate(self, c, row, centres[g][lane], hit, px);
+                    if let Some(Lit {
+                        shadow: Some((point, distance)),
+                        ..
+                    }) = lit
+                    {
+                        let dir = (point - projector) / distance;
+                        shadow[g][lane] = self.pose.transform_vector3(dir);
+                        length[g][lane] = distance - gap(distance);
+                    }
+                    lits[r * span + c - cols.start] = lit;
+                }
+            }
+            let from = self.pose.transform_point3(projector);
+            let blocked = self.scene.occluded_packet(from, &shadow, &length);
+            for (g, lane) in lanes::<GROUPS>() {
+                if blocked[g][lane] {
+                    let (c, r) = block_pixel(col, g, lane);
+                    lits[r * span + c - cols.start] = None;
+                }
+            }
+        }
+    }
 }
 
 /// What a task keeps from band to band.
@@ -392,9 +404,11 @@ struct Band {
     /// The band's pixels measured up to the projector's visibility, row by row over the
     /// window's columns.
     lits: Vec<Option<Lit>>,
+    /// One row's first hits: slot and distance.
+    hits: Vec<Option<(u32, f32)>>,
     /// One row's shadow rays, by position in the row.
     rays: Vec<(usize, Ray)>,
-    cut: CutScratch,
+    cut: RowCut,
 }
 
 /// How far short of its surface point a shadow ray at `distance` m ends, m: beyond the float32

@@ -8,8 +8,6 @@ use serde::{Deserialize, Serialize};
 use crate::bvh::{Bvh, lanes};
 use crate::camera::Intrinsics;
 use crate::epipolar::Epipolar;
-use crate::raster::{self, Drawing, Visibility};
-use crate::sensor::Projector;
 
 /// How a surface returns light, as the noise models read it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -208,26 +206,14 @@ impl Scene {
         self.bvh.occluded(origin, dir, t_max)
     }
 
-    /// The candidate triangles of a pinhole camera's pixels over `cols` × `rows` (see
-    /// [`crate::raster`]), to confirm with [`Scene::first_hit`].
-    pub(crate) fn visibility(
-        &self,
-        k: &Intrinsics,
-        pose: &Affine3A,
-        cols: Range<usize>,
-        rows: Range<usize>,
-    ) -> Visibility {
-        raster::visibility(self.bvh.slots(), k, pose, cols, rows)
-    }
-
-    /// The scene cut in the epipolar planes of a pinhole camera's rows `rows` (taken in bands
-    /// of [`crate::scan`]'s blocks) for the shadow rays of `projector` (see
-    /// [`crate::epipolar`]).
+    /// The scene prepared to be cut in the epipolar planes of a pinhole camera's rows `rows`
+    /// (see [`crate::epipolar`]), taken `band_rows` at a time, for rays that reach no farther
+    /// than `max_range` and a projector at `baseline` m along camera +x.
     pub(crate) fn epipolar(
         &self,
         k: &Intrinsics,
         pose: &Affine3A,
-        projector: &Projector,
+        baseline: f32,
         rows: Range<usize>,
         band_rows: usize,
         max_range: f32,
@@ -236,42 +222,16 @@ impl Scene {
             self.bvh.slots(),
             pose,
             k,
-            projector.baseline,
+            baseline,
             rows,
             band_rows,
             max_range,
         )
     }
 
-    /// The closest surface along a unit ray within `t_max`, given what was drawn at its pixel
-    /// (see [`Scene::visibility`]): the nearest triangle where the ray passes clear of its
-    /// edges, else the first of the two nearest the caster's test confirms, else the caster's
-    /// answer.
-    #[inline]
-    pub(crate) fn first_hit(
-        &self,
-        drawing: Drawing,
-        origin: Vec3,
-        dir: Vec3,
-        t_max: f32,
-    ) -> Option<SurfaceHit> {
-        let [nearest, next] = drawing.slots;
-        if nearest == raster::NONE {
-            return None; // drawn conservatively: nothing drawn, nothing hit
-        }
-        let hit = if drawing.clear_t > 0.0 {
-            Some((drawing.clear_t, self.bvh.triangle(nearest)))
-        } else {
-            [nearest, next]
-                .into_iter()
-                .filter(|&slot| slot != raster::NONE)
-                .find_map(|slot| self.bvh.hit_slot(slot, origin, dir))
-                .map(|h| (h.t, h.triangle))
-        };
-        match hit {
-            Some((t, triangle)) => (t < t_max).then(|| self.describe(t, triangle, dir)),
-            None => self.cast(origin, dir, t_max),
-        }
+    /// The hit at distance `t` along unit ray `dir` on the triangle in BVH slot `slot`.
+    pub(crate) fn describe_slot(&self, slot: u32, t: f32, dir: Vec3) -> SurfaceHit {
+        self.describe(t, self.bvh.triangle(slot), dir)
     }
 
     fn describe(&self, t: f32, triangle: u32, dir: Vec3) -> SurfaceHit {
