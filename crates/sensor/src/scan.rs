@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, Mat3A, Vec3};
 use rayon::prelude::*;
 
 use crate::bvh::lanes;
@@ -189,7 +189,9 @@ fn scan_pixels(
     let setup = Setup {
         scene,
         sensor,
-        frustum: sensor.projector().map(|p| p.frustum()),
+        projector: sensor.projector().map(|p| (p.frustum(), p.centre())),
+        to_camera: pose.matrix3.transpose(),
+        pinhole: k.distortion.is_none(),
         pose: *pose,
         origin: Vec3::from(pose.translation),
         region: region.copied(),
@@ -252,8 +254,12 @@ fn scan_pixels(
 struct Setup<'a> {
     scene: &'a Scene,
     sensor: &'a SensorSpec,
-    /// The projector's frustum, for sensors that have one.
-    frustum: Option<Frustum>,
+    /// The projector's frustum and centre (camera frame), for sensors that have one.
+    projector: Option<(Frustum, Vec3)>,
+    /// World-to-camera rotation.
+    to_camera: Mat3A,
+    /// Whether the camera has no distortion.
+    pinhole: bool,
     pose: Affine3A,
     /// The camera's centre, world frame.
     origin: Vec3,
@@ -298,14 +304,14 @@ impl Setup<'_> {
             epipolar.first_hits(cut, cols, hits);
             for ((c, hit), lit) in cols.clone().zip(hits.iter()).zip(lits.iter_mut()) {
                 let Some((slot, t)) = *hit else { continue };
-                let centre = k.ray(c as f64, row as f64);
+                let centre = k.pinhole_ray(c as f64, row as f64);
                 let dir = self.pose.transform_vector3(centre);
                 if self.casts(dir) {
                     let hit = self.scene.describe_slot(slot, t, dir);
                     *lit = illuminate(self, c, row, centre, hit, &mut line[c]);
                 }
             }
-            if self.frustum.is_none() {
+            if self.projector.is_none() {
                 continue; // no projector
             }
             rays.clear();
@@ -461,16 +467,16 @@ fn illuminate(
 ) -> Option<Lit> {
     let Setup {
         sensor,
-        frustum,
-        pose,
+        ref projector,
+        ref to_camera,
+        pinhole,
         seed,
         ..
     } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
     let rng = PixelRng::new(seed, (row * k.width as usize + col) as u64);
-    let to_camera = |d: Vec3| pose.matrix3.transpose() * glam::Vec3A::from(d);
-    let normal = Vec3::from(to_camera(hit.normal));
+    let normal = Vec3::from(*to_camera * glam::Vec3A::from(hit.normal));
     *px = Pixel {
         clean: centre * hit.t,
         normal,
@@ -485,7 +491,7 @@ fn illuminate(
     let (dir, range) = if noise.lateral_px > 0.0 {
         let du = noise.lateral_px * rng.normal(stream::LATERAL);
         let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
-        let d = if k.distortion.is_none() {
+        let d = if pinhole {
             // a pinhole's: the centre ray's image point, moved
             let shift = Vec3::new(du / k.fx as f32, dv / k.fy as f32, 0.0);
             (centre / centre.z + shift).normalize()
@@ -507,12 +513,12 @@ fn illuminate(
     // illumination of the surface point the pixel sees (jitter moves where it is measured, not
     // where the light falls): the projector, or the camera itself
     let surface = px.clean;
-    let ((light_dir, light_range), shadow) = match (sensor.projector(), frustum) {
-        (Some(projector), Some(frustum)) => {
+    let ((light_dir, light_range), shadow) = match projector {
+        Some((frustum, centre)) => {
             if !frustum.lights(surface) {
                 return None;
             }
-            let to_light = projector.centre() - surface;
+            let to_light = *centre - surface;
             let distance = to_light.length();
             let l = to_light / distance;
             if normal.dot(l) <= 0.0 {
@@ -520,7 +526,7 @@ fn illuminate(
             }
             ((l, distance), Some((surface, distance)))
         }
-        _ => ((-centre, hit.t), None),
+        None => ((-centre, hit.t), None),
     };
 
     let material = hit.material;
