@@ -93,7 +93,7 @@ impl Epipolar {
                         (m.0.min(row), m.1.max(row))
                     });
                     let clamp = |r: f64| r.clamp(rows.start as f64, rows.end as f64) as usize;
-                    clamp(lo.floor() - 1.0)..clamp(hi.ceil() + 2.0)
+                    clamp(lo - 2.0)..clamp(hi + 3.0) // rows to spare, as casts truncate
                 };
                 if row_span.is_empty() {
                     0..0
@@ -172,8 +172,10 @@ impl Epipolar {
         let (first, end) = (cols.start as f64, cols.end as f64);
         for (i, s) in segments.iter().enumerate() {
             let [x0, x1] = s.camera;
-            let from = (column(x0).floor()).clamp(first, end) as usize;
-            let to = (column(x1).ceil() + 1.0).clamp(first, end) as usize;
+            // a column either side to spare: casts round towards zero (no floor call on
+            // baseline x86-64), and each column is tested exactly below
+            let from = (column(x0) - 1.0).clamp(first, end) as usize;
+            let to = (column(x1) + 2.0).clamp(first, end) as usize;
             let [a, b, c] = s.line;
             if c == 0.0 {
                 continue; // edge-on: in a plane through the camera
@@ -339,7 +341,9 @@ impl Segment {
             }
         }
         for (i, j) in [(0, 1), (1, 2), (2, 0)] {
-            if (side[i] < 0.0 && side[j] > 0.0) || (side[i] > 0.0 && side[j] < 0.0) {
+            // opposite signs (a non-zero side is far above the square root of the smallest
+            // float64, as it comes from float32 corners: the product cannot underflow)
+            if side[i] * side[j] < 0.0 {
                 // from the edge's lesser corner, so that both triangles on it get the same point
                 let (p, q, sp, sq) = if lesser(tri[i], tri[j]) {
                     (v[i], v[j], side[i], side[j])
