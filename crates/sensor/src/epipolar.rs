@@ -572,38 +572,40 @@ mod tests {
         tris
     }
 
-    #[test]
-    fn a_sphere_seen_over_its_pole_gives_the_casters_hits() {
-        // the pole is a fan of slivers meeting at one point, seen head on
-        let k = Intrinsics::from_fov(320, 256, 40.0, 32.0);
-        let eye = Vec3::new(0.1, -0.2, 1.28);
-        let pose = look_at(eye, Vec3::new(0.0, 0.0, 0.1), Vec3::Y).unwrap();
-        let (hits, differ) = compare_hits(&sphere_on_plane(70), &k, &pose);
-        assert!(hits > 50_000, "{hits} pixels hit");
-        assert!(
-            differ.is_empty(),
+    /// How many pixels differ, and the first few.
+    fn summary(differ: &[String]) -> String {
+        format!(
             "{} differ: {:?}",
             differ.len(),
             &differ[..3.min(differ.len())]
-        );
+        )
+    }
+
+    /// A camera over the sphere's pole, seeing it and the plane around it.
+    fn over_the_pole() -> (Intrinsics, Affine3A) {
+        let k = Intrinsics::from_fov(320, 256, 40.0, 32.0);
+        let eye = Vec3::new(0.1, -0.2, 1.28);
+        (k, look_at(eye, Vec3::new(0.0, 0.0, 0.1), Vec3::Y).unwrap())
+    }
+
+    #[test]
+    fn a_sphere_seen_over_its_pole_gives_the_casters_hits() {
+        // the pole is a fan of slivers meeting at one point, seen head on
+        let (k, pose) = over_the_pole();
+        let (hits, differ) = compare_hits(&sphere_on_plane(70), &k, &pose);
+        assert!(hits > 50_000, "{hits} pixels hit");
+        assert!(differ.is_empty(), "{}", summary(&differ));
     }
 
     #[test]
     fn a_sphere_on_a_plane_casts_the_casters_shadows() {
-        let k = Intrinsics::from_fov(320, 256, 40.0, 32.0);
-        let eye = Vec3::new(0.1, -0.2, 1.28);
-        let pose = look_at(eye, Vec3::new(0.0, 0.0, 0.1), Vec3::Y).unwrap();
+        let (k, pose) = over_the_pole();
         for baseline in [0.2, -0.35] {
             let (tested, shadowed, differ) =
                 compare_shadows(&sphere_on_plane(70), &k, &pose, baseline);
             assert!(tested > 70_000, "{tested} pixels");
             assert!(shadowed > 2_000, "{shadowed} in shadow");
-            assert!(
-                differ.is_empty(),
-                "{} differ: {:?}",
-                differ.len(),
-                &differ[..3.min(differ.len())]
-            );
+            assert!(differ.is_empty(), "{}", summary(&differ));
         }
     }
 
@@ -625,7 +627,7 @@ mod tests {
             let k = Intrinsics::from_fov(48, 36, fov, fov * 0.75);
             let pose = look_at(Vec3::new(eye.0, eye.1, eye.2), Vec3::ZERO, Vec3::Y).unwrap();
             let (_, differ) = compare_hits(&tris, &k, &pose);
-            prop_assert!(differ.is_empty(), "{} differ: {:?}", differ.len(), &differ[..3.min(differ.len())]);
+            prop_assert!(differ.is_empty(), "{}", summary(&differ));
         }
 
         /// Triangle soups around the camera (some behind it or across its plane, some
@@ -644,7 +646,7 @@ mod tests {
             let k = Intrinsics::from_fov(48, 36, 60.0, 45.0);
             let pose = look_at(Vec3::new(eye.0, eye.1, eye.2), Vec3::ZERO, Vec3::Y).unwrap();
             let (_, _, differ) = compare_shadows(&tris, &k, &pose, baseline);
-            prop_assert!(differ.is_empty(), "{} differ: {:?}", differ.len(), &differ[..3.min(differ.len())]);
+            prop_assert!(differ.is_empty(), "{}", summary(&differ));
         }
     }
 }
