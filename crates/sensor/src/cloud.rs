@@ -120,15 +120,26 @@ impl Scan {
     }
 
     /// The pixels for which `point` gives a point (camera frame), with their normals, signal
-    /// and labels, in pixel order, in columns allocated to size (`point` is called again for
-    /// the pixels kept).
+    /// and labels, in pixel order, in columns allocated to size and filled one at a time.
     pub fn points_where(&self, point: impl Fn(&Pixel) -> Option<Vec3>) -> PointCloud {
-        let kept: Vec<&Pixel> = self.pixels.iter().filter(|p| point(p).is_some()).collect();
-        let mut out = PointCloud::with_capacity(kept.len());
-        for p in kept {
-            let q = point(p).expect("a kept pixel has its point");
-            out.push(q, p.normal, p.intensity, p.class, p.instance);
+        let kept: Vec<(u32, Vec3)> = (0u32..)
+            .zip(&self.pixels)
+            .filter_map(|(i, p)| Some((i, point(p)?)))
+            .collect();
+        let pixels = &self.pixels;
+        PointCloud {
+            xyz: kept.iter().map(|&(_, q)| q).collect(),
+            normal: column(pixels, &kept, |p| p.normal),
+            intensity: column(pixels, &kept, |p| p.intensity),
+            class: column(pixels, &kept, |p| p.class),
+            instance: column(pixels, &kept, |p| p.instance),
         }
-        out
     }
+}
+
+/// One field of the kept pixels (by index), as a column.
+fn column<T>(pixels: &[Pixel], kept: &[(u32, Vec3)], field: impl Fn(&Pixel) -> T) -> Vec<T> {
+    kept.iter()
+        .map(|&(i, _)| field(&pixels[i as usize]))
+        .collect()
 }
