@@ -213,8 +213,7 @@ fn scan_pixels(
                 line[cols.end..].fill(Pixel::EMPTY);
             }
             let span = cols.len();
-            scratch.lits.clear();
-            scratch.lits.resize(rows * span, None);
+            scratch.lits.resize(rows * span, None); // each path writes every one it reads
             match &setup.epipolar {
                 Some(epipolar) => setup.cut_rows(epipolar, band, &cols, out, scratch),
                 None => setup.cast_blocks(band, &cols, out, &mut scratch.lits),
@@ -299,17 +298,23 @@ impl Setup<'_> {
         let lines = out.chunks_mut(k.width as usize);
         for (r, (line, lits)) in lines.zip(lits.chunks_mut(cols.len())).enumerate() {
             let row = BLOCK * band + r;
-            line[cols.clone()].fill(Pixel::EMPTY);
             epipolar.cut(row, cut);
             epipolar.first_hits(cut, cols, hits);
+            // every pixel and lit of the row written once: measured, or empty
             for ((c, hit), lit) in cols.clone().zip(hits.iter()).zip(lits.iter_mut()) {
-                let Some((slot, t)) = *hit else { continue };
-                let centre = k.pinhole_ray(c as f64, row as f64);
-                let dir = self.pose.transform_vector3(centre);
-                if self.casts(dir) {
-                    let hit = self.scene.describe_slot(slot, t, dir);
-                    *lit = illuminate(self, c, row, centre, hit, &mut line[c]);
-                }
+                let seen = hit.and_then(|(slot, t)| {
+                    let centre = k.pinhole_ray(c as f64, row as f64);
+                    let dir = self.pose.transform_vector3(centre);
+                    let hit = || (centre, self.scene.describe_slot(slot, t, dir));
+                    self.casts(dir).then(hit)
+                });
+                *lit = match seen {
+                    Some((centre, hit)) => illuminate(self, c, row, centre, hit, &mut line[c]),
+                    None => {
+                        line[c] = Pixel::EMPTY;
+                        None
+                    }
+                };
             }
             if self.projector.is_none() {
                 continue; // no projector
@@ -345,6 +350,7 @@ impl Setup<'_> {
         let k = &self.sensor.intrinsics;
         let (width, span) = (k.width as usize, cols.len());
         let rows = lits.len() / span;
+        lits.fill(None);
         for col in cols.clone().step_by(BLOCK) {
             for line in out.chunks_mut(width) {
                 line[col..(col + BLOCK).min(width)].fill(Pixel::EMPTY);
