@@ -447,10 +447,11 @@ const GROUPS: usize = BLOCK * BLOCK / 4;
 /// A pixel measured up to the projector's visibility: what [`finish`] needs once that is known.
 #[derive(Clone, Copy)]
 struct Lit {
-    /// Direction of the (possibly jittered) sampling ray, camera frame.
-    dir: Vec3,
-    /// Range along it.
-    range: f32,
+    /// The pixel's column and row.
+    pixel: [u32; 2],
+    /// Its centre ray's direction (camera frame) and the distance to the surface along it.
+    centre: Vec3,
+    t: f32,
     /// Signal strength at the point.
     signal: f32,
     /// The surface point the projector must reach (camera frame) and its distance from the
@@ -461,8 +462,7 @@ struct Lit {
 
 /// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to the
 /// projector's visibility: the light at the surface point it sees, its signal and dropouts
-/// (which need no shadow test, so lost pixels have none) and where it samples; `None` when it
-/// can have no point.
+/// (which need no shadow test, so lost pixels have none); `None` when it can have no point.
 fn illuminate(
     setup: &Setup,
     col: usize,
@@ -475,7 +475,6 @@ fn illuminate(
         sensor,
         ref projector,
         ref to_camera,
-        pinhole,
         seed,
         ..
     } = *setup;
@@ -491,30 +490,6 @@ fn illuminate(
         incidence: acos(normal.dot(-centre).clamp(-1.0, 1.0)),
         ..Pixel::EMPTY
     };
-
-    // where this pixel actually samples: its centre, or a laterally jittered position on the
-    // tangent plane of the surface it sees
-    let (dir, range) = if noise.lateral_px > 0.0 {
-        let du = noise.lateral_px * rng.normal(stream::LATERAL);
-        let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
-        let d = if pinhole {
-            // a pinhole's: the centre ray's image point, moved
-            let shift = Vec3::new(du / k.fx as f32, dv / k.fy as f32, 0.0);
-            (centre / centre.z + shift).normalize()
-        } else {
-            k.ray(col as f64 + du as f64, row as f64 + dv as f64)
-        };
-        let facing = normal.dot(d);
-        if facing.abs() < 1e-6 {
-            return None; // grazing: the jittered ray runs along the surface
-        }
-        (d, normal.dot(px.clean) / facing)
-    } else {
-        (centre, hit.t)
-    };
-    if range.is_nan() || range < sensor.min_range {
-        return None;
-    }
 
     // illumination of the surface point the pixel sees (jitter moves where it is measured, not
     // where the light falls): the projector, or the camera itself
@@ -551,8 +526,9 @@ fn illuminate(
         }
     }
     Some(Lit {
-        dir,
-        range,
+        pixel: [col as u32, row as u32],
+        centre,
+        t: hit.t,
         signal,
         shadow,
         rng,
@@ -593,18 +569,48 @@ fn round(x: f32) -> f32 {
 }
 
 /// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
-/// range noise, quantisation and the range limits.
+/// where it samples (its centre, or a laterally jittered position), range noise,
+/// quantisation and the range limits.
 fn finish(setup: &Setup, lit: &Lit, px: &mut Pixel) {
-    let Setup { sensor, bias, .. } = *setup;
+    let Setup {
+        sensor,
+        bias,
+        pinhole,
+        ..
+    } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
     let Lit {
-        dir,
-        mut range,
+        pixel: [col, row],
+        centre,
+        t,
         signal,
         rng,
         ..
     } = *lit;
+    // where this pixel actually samples: its centre, or a laterally jittered position on the
+    // tangent plane of the surface it sees
+    let (dir, mut range) = if noise.lateral_px > 0.0 {
+        let du = noise.lateral_px * rng.normal(stream::LATERAL);
+        let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
+        let d = if pinhole {
+            // a pinhole's: the centre ray's image point, moved
+            let shift = Vec3::new(du / k.fx as f32, dv / k.fy as f32, 0.0);
+            (centre / centre.z + shift).normalize()
+        } else {
+            k.ray(col as f64 + du as f64, row as f64 + dv as f64)
+        };
+        let facing = px.normal.dot(d);
+        if facing.abs() < 1e-6 {
+            return; // grazing: the jittered ray runs along the surface
+        }
+        (d, px.normal.dot(px.clean) / facing)
+    } else {
+        (centre, t)
+    };
+    if range.is_nan() || range < sensor.min_range {
+        return;
+    }
     let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
     if sigma > 0.0 {
         range += sigma * rng.normal(stream::AXIAL);
