@@ -351,6 +351,8 @@ impl Setup<'_> {
         let (width, span) = (k.width as usize, cols.len());
         let rows = lits.len() / span;
         lits.fill(None);
+        let projector = self.projector.map_or(Vec3::ZERO, |(_, centre)| centre);
+        let from = self.pose.transform_point3(projector);
         for col in cols.clone().step_by(BLOCK) {
             for line in out.chunks_mut(width) {
                 line[col..(col + BLOCK).min(width)].fill(Pixel::EMPTY);
@@ -379,7 +381,6 @@ impl Setup<'_> {
             }
             let hits = self.scene.cast_packet(self.origin, &dirs, &t_max);
             // the shadow rays, world frame, towards the lit surface points from the projector
-            let projector = self.sensor.projector().map_or(Vec3::ZERO, |p| p.centre());
             let mut shadow = [[Vec3::Z; 4]; GROUPS];
             let mut length = [[0.0; 4]; GROUPS];
             for (g, lane) in lanes::<GROUPS>() {
@@ -398,7 +399,6 @@ impl Setup<'_> {
                     lits[r * span + c - cols.start] = lit;
                 }
             }
-            let from = self.pose.transform_point3(projector);
             let blocked = self.scene.occluded_packet(from, &shadow, &length);
             for (g, lane) in lanes::<GROUPS>() {
                 if blocked[g][lane] {
