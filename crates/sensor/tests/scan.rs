@@ -176,6 +176,29 @@ fn projector_shadow_band_width_follows_from_the_baseline() {
     // the ideal sensor sees everything there
     let all = scan(&scene, &ideal(k), &Affine3A::IDENTITY, 0);
     assert_eq!(all.valid_count(), 801 * 101);
+    // a lens with (negligible) distortion is cast ray by ray, shadow rays included: the same
+    // points, but where the projector's ray grazes the occluder's edge exactly (column 360,
+    // x = b - b·z2/z1 at the background), as rounding decides
+    let lens = Intrinsics {
+        distortion: Distortion {
+            k1: 1e-12,
+            ..Distortion::default()
+        },
+        ..k
+    };
+    let cast = scan(
+        &scene,
+        &SensorSpec {
+            intrinsics: lens,
+            ..sl
+        },
+        &Affine3A::IDENTITY,
+        0,
+    );
+    let differ: Vec<usize> = (0..s.pixels.len())
+        .filter(|&i| s.pixels[i].is_valid() != cast.pixels[i].is_valid())
+        .collect();
+    assert!(differ.iter().all(|i| i % 801 == 360), "{differ:?}");
 }
 
 #[test]
