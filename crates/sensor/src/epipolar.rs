@@ -103,23 +103,8 @@ impl Epipolar {
                 }
             })
             .collect();
-        let mut starts = vec![0u32; bands + 1];
-        for span in &spans {
-            for band in span.clone() {
-                starts[band + 1] += 1;
-            }
-        }
-        for i in 0..bands {
-            starts[i + 1] += starts[i];
-        }
-        let mut next = starts.clone();
-        let mut members = vec![0; starts[bands] as usize];
-        for (slot, span) in spans.iter().enumerate() {
-            for band in span.clone() {
-                members[next[band] as usize] = slot as u32;
-                next[band] += 1;
-            }
-        }
+        let (mut starts, mut members) = (Vec::new(), Vec::new());
+        bucket(bands, spans.iter().cloned(), &mut starts, &mut members);
         Epipolar {
             tris,
             baseline: baseline as f64,
@@ -142,7 +127,7 @@ impl Epipolar {
         let band = row / self.band_rows - self.first_band;
         let t = (row as f64 - self.cy) / self.fy;
         row_cut.segments.clear();
-        row_cut.row = row;
+        row_cut.t = t;
         let members = &self.members[self.starts[band] as usize..self.starts[band + 1] as usize];
         for &slot in members {
             if let Some(s) = Segment::cut(&self.tris[slot as usize], t, slot) {
@@ -161,7 +146,7 @@ impl Epipolar {
     ) {
         let RowCut {
             segments,
-            row,
+            t: y,
             depth,
             ..
         } = row_cut;
@@ -190,7 +175,7 @@ impl Epipolar {
                 }
             }
         }
-        let y = (*row as f64 - self.cy) / self.fy;
+        let y = *y; // the row's pixel rays' y / z
         hits.clear();
         hits.extend(
             self.xs[cols.clone()]
@@ -244,26 +229,10 @@ impl Epipolar {
         let per_unit = (self.fx / BIN_PX).min((MAX_BINS - 2) as f64 / span);
         let bins = nearest(span * per_unit) + 1;
         let bin = |alpha: f64| nearest((alpha - lo) * per_unit);
-        starts.clear();
-        starts.resize(bins + 1, 0);
-        for s in blockers.iter() {
-            for b in bin(s.alpha[0].max(lo))..=bin(s.alpha[1].min(hi)) {
-                starts[b + 1] += 1;
-            }
-        }
-        for b in 0..bins {
-            starts[b + 1] += starts[b];
-        }
-        entries.resize(starts[bins] as usize, 0);
-        for (i, s) in blockers.iter().enumerate() {
-            for b in bin(s.alpha[0].max(lo))..=bin(s.alpha[1].min(hi)) {
-                entries[starts[b] as usize] = i as u32;
-                starts[b] += 1;
-            }
-        }
-        // each bin's end is now the next one's start
-        starts.rotate_right(1);
-        starts[0] = 0;
+        let spans = blockers
+            .iter()
+            .map(|s| bin(s.alpha[0].max(lo))..bin(s.alpha[1].min(hi)) + 1);
+        bucket(bins, spans, starts, entries);
         Shadows {
             blockers,
             starts,
@@ -277,7 +246,8 @@ impl Epipolar {
 /// One row's plane cut, with storage reused from row to row.
 #[derive(Default)]
 pub(crate) struct RowCut {
-    row: usize,
+    /// The cut plane, y = t·z: its rows' pixel rays' y / z.
+    t: f64,
     segments: Vec<Segment>,
     /// Per column: the nearest inverse depth so far and its segment.
     depth: Vec<(f64, u32)>,
@@ -413,6 +383,36 @@ impl Blocker {
         let z = c / (a * ray.alpha + b);
         z > 0.0 && z < ray.z_end
     }
+}
+
+/// Lists items by bucket, each item in the range of buckets `spans` gives it: bucket `b`'s
+/// items are `entries[starts[b]..starts[b + 1]]`, in item order (a counting sort).
+fn bucket(
+    buckets: usize,
+    spans: impl Iterator<Item = Range<usize>> + Clone,
+    starts: &mut Vec<u32>,
+    entries: &mut Vec<u32>,
+) {
+    starts.clear();
+    starts.resize(buckets + 1, 0);
+    for span in spans.clone() {
+        for b in span {
+            starts[b + 1] += 1;
+        }
+    }
+    for b in 0..buckets {
+        starts[b + 1] += starts[b];
+    }
+    entries.resize(starts[buckets] as usize, 0);
+    for (i, span) in spans.enumerate() {
+        for b in span {
+            entries[starts[b] as usize] = i as u32;
+            starts[b] += 1;
+        }
+    }
+    // each bucket's end is now the next one's start
+    starts.rotate_right(1);
+    starts[0] = 0;
 }
 
 /// `x` (in [0, 2³¹)) rounded to the nearest integer by the float's own rounding: adding 2⁵²
