@@ -181,13 +181,6 @@ impl Intrinsics {
         Vec3::new(x as f32, y as f32, 1.0).normalize()
     }
 
-    /// [`Intrinsics::ray`] of a camera known to have no distortion, without checking.
-    #[inline]
-    pub(crate) fn pinhole_ray(&self, u: f64, v: f64) -> Vec3 {
-        let (x, y) = ((u - self.cx) / self.fx, (v - self.cy) / self.fy);
-        Vec3::new(x as f32, y as f32, 1.0).normalize()
-    }
-
     /// Pixel coordinates (u, v) of a camera-frame point in front of the camera.
     pub fn project(&self, p: Vec3) -> Option<(f64, f64)> {
         if p.z <= 0.0 {

@@ -189,6 +189,13 @@ impl Epipolar {
         );
     }
 
+    /// The unit centre ray (camera frame) of column `col` of the cut row: as
+    /// [`Intrinsics::ray`] gives it for a camera without distortion.
+    #[inline]
+    pub(crate) fn centre_ray(&self, row_cut: &RowCut, col: usize) -> Vec3 {
+        Vec3::new(self.xs[col] as f32, row_cut.t as f32, 1.0).normalize()
+    }
+
     /// The shadow ray from the projector towards camera-frame `point` (on a centre ray of a
     /// pixel), ending `gap` m short of it.
     pub(crate) fn ray(&self, point: Vec3, distance: f32, gap: f32) -> Ray {

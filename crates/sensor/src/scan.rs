@@ -212,17 +212,14 @@ fn scan_pixels(
                 line[..cols.start].fill(Pixel::EMPTY);
                 line[cols.end..].fill(Pixel::EMPTY);
             }
-            let span = cols.len();
-            scratch.lits.resize(rows * span, None); // each path writes every one it reads
             match &setup.epipolar {
                 Some(epipolar) => setup.cut_rows(epipolar, band, &cols, out, scratch),
-                None => setup.cast_blocks(band, &cols, out, &mut scratch.lits),
-            }
-            for (r, line) in scratch.lits.chunks(span).enumerate() {
-                let out = &mut out[r * width + cols.start..][..span];
-                for (lit, px) in line.iter().zip(out) {
-                    if let Some(lit) = lit {
-                        finish(&setup, lit, px);
+                None => {
+                    let lits = &mut scratch.lits;
+                    lits.resize(rows * cols.len(), None);
+                    setup.cast_blocks(band, &cols, out, lits);
+                    for (line, lits) in out.chunks_mut(width).zip(lits.chunks(cols.len())) {
+                        setup.settle(&mut line[cols.clone()], lits);
                     }
                 }
             }
@@ -295,15 +292,15 @@ impl Setup<'_> {
             rays,
             cut,
         } = scratch;
-        let lines = out.chunks_mut(k.width as usize);
-        for (r, (line, lits)) in lines.zip(lits.chunks_mut(cols.len())).enumerate() {
+        lits.resize(cols.len(), None); // one row's, each written before it is read
+        for (r, line) in out.chunks_mut(k.width as usize).enumerate() {
             let row = BLOCK * band + r;
             epipolar.cut(row, cut);
             epipolar.first_hits(cut, cols, hits);
             // every pixel and lit of the row written once: measured, or empty
             for ((c, hit), lit) in cols.clone().zip(hits.iter()).zip(lits.iter_mut()) {
                 let seen = hit.and_then(|(slot, t)| {
-                    let centre = k.pinhole_ray(c as f64, row as f64);
+                    let centre = epipolar.centre_ray(cut, c);
                     let dir = self.pose.transform_vector3(centre);
                     let hit = || (centre, self.scene.describe_slot(slot, t, dir));
                     self.casts(dir).then(hit)
@@ -316,24 +313,22 @@ impl Setup<'_> {
                     }
                 };
             }
-            if self.projector.is_none() {
-                continue; // no projector
+            if self.projector.is_some() {
+                shade(epipolar, cut, lits, rays);
             }
-            rays.clear();
-            for (i, lit) in lits.iter().enumerate() {
-                if let Some(Lit {
-                    shadow: Some((point, distance)),
-                    ..
-                }) = lit
-                {
-                    rays.push((i, epipolar.ray(*point, *distance, gap(*distance))));
-                }
-            }
-            let shadows = epipolar.shadows(cut, rays.iter().map(|&(_, ray)| ray));
-            for &(i, ray) in rays.iter() {
-                if shadows.block(ray) {
-                    lits[i] = None;
-                }
+            self.settle(&mut line[cols.clone()], lits);
+        }
+    }
+
+    /// Completes a row of pixels (the window's columns) measured up to their light: incidence
+    /// angles from the cosines, in one tight loop, then the measurement of each lit pixel.
+    fn settle(&self, line: &mut [Pixel], lits: &[Option<Lit>]) {
+        for px in line.iter_mut() {
+            px.incidence = acos(px.incidence);
+        }
+        for (lit, px) in lits.iter().zip(line) {
+            if let Some(lit) = lit {
+                finish(self, lit, px);
             }
         }
     }
@@ -423,6 +418,31 @@ struct Band {
     cut: RowCut,
 }
 
+/// Drops the lit pixels of a cut row whose surface point the projector does not reach.
+fn shade(
+    epipolar: &Epipolar,
+    cut: &mut RowCut,
+    lits: &mut [Option<Lit>],
+    rays: &mut Vec<(usize, Ray)>,
+) {
+    rays.clear();
+    for (i, lit) in lits.iter().enumerate() {
+        if let Some(Lit {
+            shadow: Some((point, distance)),
+            ..
+        }) = lit
+        {
+            rays.push((i, epipolar.ray(*point, *distance, gap(*distance))));
+        }
+    }
+    let shadows = epipolar.shadows(cut, rays.iter().map(|&(_, ray)| ray));
+    for &(i, ray) in rays.iter() {
+        if shadows.block(ray) {
+            lits[i] = None;
+        }
+    }
+}
+
 /// How far short of its surface point a shadow ray at `distance` m ends, m: beyond the float32
 /// rounding of the point, so that its own surface does not shadow it.
 pub(crate) fn gap(distance: f32) -> f32 {
@@ -463,6 +483,7 @@ struct Lit {
 /// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to the
 /// projector's visibility: the light at the surface point it sees, its signal and dropouts
 /// (which need no shadow test, so lost pixels have none); `None` when it can have no point.
+#[inline(always)]
 fn illuminate(
     setup: &Setup,
     col: usize,
@@ -487,7 +508,8 @@ fn illuminate(
         normal,
         class: hit.class,
         instance: hit.instance,
-        incidence: acos(normal.dot(-centre).clamp(-1.0, 1.0)),
+        // the cosine for now: the band turns its pixels' cosines into angles in one tight loop
+        incidence: normal.dot(-centre).clamp(-1.0, 1.0),
         ..Pixel::EMPTY
     };
 
@@ -658,39 +680,42 @@ fn mixed_pixels(scan: &mut Scan, rows: Range<usize>, sensor: &SensorSpec, seed: 
             }
         })
         .collect();
+    let none = vec![f32::NAN; w]; // the rows beyond the first and last
     let edges = sensor.noise.edges;
     cast.par_chunks_mut(w).enumerate().for_each(|(r, out)| {
+        let line = |r: Option<usize>| {
+            r.filter(|&r| r < ranges.len() / w)
+                .map(|r| &ranges[r * w..][..w])
+        };
+        let here = line(Some(r)).unwrap_or(&none);
+        let (above, below) = (
+            line(r.checked_sub(1)).unwrap_or(&none),
+            line(Some(r + 1)).unwrap_or(&none),
+        );
+        let beside = |c: usize| here.get(c).copied().unwrap_or(f32::NAN);
         for (col, px) in out.iter_mut().enumerate() {
-            let i = r * w + col;
-            let range = ranges[i];
-            if range.is_nan() {
-                continue;
+            let range = here[col];
+            let step = |other: f32| (other - range).abs();
+            // the 4-neighbours' ranges (NaN: no point) and the largest difference to one,
+            // found without branches; the few edges then draw
+            let neighbours = [
+                beside(col.wrapping_sub(1)),
+                beside(col + 1),
+                above[col],
+                below[col],
+            ];
+            let gap = neighbours.map(step).into_iter().fold(f32::NAN, f32::max);
+            if gap.is_nan() || gap <= edges.jump {
+                continue; // no point, no neighbour with one, or no edge
             }
-            // the 4-neighbour with a point whose range differs most (the last of equals)
-            let (mut other, mut gap) = (f32::NAN, -1.0);
-            let mut consider = |j: usize| {
-                let d = (ranges[j] - range).abs();
-                if d >= gap {
-                    (other, gap) = (ranges[j], d); // never taken for NaN: no point
-                }
-            };
-            if col > 0 {
-                consider(i - 1);
-            }
-            if col + 1 < w {
-                consider(i + 1);
-            }
-            if r > 0 {
-                consider(i - w);
-            }
-            if i + w < ranges.len() {
-                consider(i + w);
-            }
-            if gap <= edges.jump {
-                continue;
-            }
-            let rng = PixelRng::new(seed, (rows.start * w + i) as u64);
+            let rng = PixelRng::new(seed, ((rows.start + r) * w + col) as u64);
             if rng.uniform(stream::EDGE) < edges.probability {
+                // the neighbour whose range differs most (the last of equals)
+                let other = neighbours
+                    .into_iter()
+                    .rev()
+                    .find(|&n| step(n) == gap)
+                    .unwrap_or(range);
                 let blend = rng.uniform(stream::EDGE + 1);
                 px.point *= (range + blend * (other - range)) / range;
             }
