@@ -172,7 +172,10 @@ fn scan_pixels(
         )
     };
     // whatever a reused buffer holds is overwritten below, band by band while it is in cache
-    pixels.resize(width * k.height as usize, Pixel::EMPTY);
+    // (grown in parallel: a fresh buffer's pages are faulted in by both threads)
+    let size = width * k.height as usize;
+    pixels.truncate(size);
+    pixels.par_extend(rayon::iter::repeat_n(Pixel::EMPTY, size - pixels.len()));
     let [c0, c1, r0, r1] = region.and_then(|reg| reg.pixel_window(k, pose)).unwrap_or([
         0,
         width,
@@ -671,7 +674,7 @@ fn mixed_pixels(scan: &mut Scan, rows: Range<usize>, sensor: &SensorSpec, seed: 
     let cast = &mut scan.pixels[rows.start * w..rows.end * w];
     // each pixel's range, NaN where it has no point
     let ranges: Vec<f32> = cast
-        .iter()
+        .par_iter()
         .map(|p| {
             if p.is_valid() {
                 p.point.length()
