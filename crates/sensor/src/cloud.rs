@@ -104,30 +104,13 @@ impl PointCloud {
         self.xyz
             .par_iter_mut()
             .zip(&mut self.normal)
-            .with_min_len(CHUNK)
             .for_each(|(p, n)| {
                 *p = transform.transform_point3(*p) * scale;
                 *n = transform.transform_vector3(*n);
             });
         self
     }
-
-    /// The clouds one after the other.
-    fn concatenated(parts: &[PointCloud]) -> PointCloud {
-        let mut all = PointCloud::with_capacity(parts.iter().map(PointCloud::len).sum());
-        for part in parts {
-            all.xyz.extend_from_slice(&part.xyz);
-            all.normal.extend_from_slice(&part.normal);
-            all.intensity.extend_from_slice(&part.intensity);
-            all.class.extend_from_slice(&part.class);
-            all.instance.extend_from_slice(&part.instance);
-        }
-        all
-    }
 }
-
-/// Pixels or points one task takes at a time.
-const CHUNK: usize = 1 << 16;
 
 impl Scan {
     /// The valid points of the scan (`clean`: the exact points instead of the measured ones), in
@@ -141,29 +124,32 @@ impl Scan {
     }
 
     /// The pixels for which `point` gives a point (camera frame), with their normals, signal
-    /// and labels, in pixel order: chunks of pixels in parallel, each into columns allocated to
-    /// size and filled one at a time, then joined.
+    /// and labels, in pixel order: the kept pixels found in parallel, then each column filled
+    /// in parallel, allocated to size.
     pub fn points_where(&self, point: impl Fn(&Pixel) -> Option<Vec3> + Sync) -> PointCloud {
-        let parts: Vec<PointCloud> = self
-            .pixels
-            .par_chunks(CHUNK)
-            .map(|pixels| {
-                let kept: Vec<(&Pixel, Vec3)> =
-                    pixels.iter().filter_map(|p| Some((p, point(p)?))).collect();
-                PointCloud {
-                    xyz: column(&kept, |_, q| q),
-                    normal: column(&kept, |p, _| p.normal),
-                    intensity: column(&kept, |p, _| p.intensity),
-                    class: column(&kept, |p, _| p.class),
-                    instance: column(&kept, |p, _| p.instance),
-                }
-            })
+        let kept: Vec<(u32, Vec3)> = (0u32..self.pixels.len() as u32)
+            .into_par_iter()
+            .zip(&self.pixels)
+            .filter_map(|(i, p)| Some((i, point(p)?)))
             .collect();
-        PointCloud::concatenated(&parts)
+        let pixels = &self.pixels;
+        PointCloud {
+            xyz: column(pixels, &kept, |_, q| q),
+            normal: column(pixels, &kept, |p, _| p.normal),
+            intensity: column(pixels, &kept, |p, _| p.intensity),
+            class: column(pixels, &kept, |p, _| p.class),
+            instance: column(pixels, &kept, |p, _| p.instance),
+        }
     }
 }
 
-/// One field of the kept pixels and their points, as a column.
-fn column<T>(kept: &[(&Pixel, Vec3)], field: impl Fn(&Pixel, Vec3) -> T) -> Vec<T> {
-    kept.iter().map(|&(p, q)| field(p, q)).collect()
+/// One field of the kept pixels (by index) and their points, as a column.
+fn column<T: Send>(
+    pixels: &[Pixel],
+    kept: &[(u32, Vec3)],
+    field: impl Fn(&Pixel, Vec3) -> T + Sync,
+) -> Vec<T> {
+    kept.par_iter()
+        .map(|&(i, q)| field(&pixels[i as usize], q))
+        .collect()
 }
