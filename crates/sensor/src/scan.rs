@@ -411,8 +411,8 @@ impl Setup<'_> {
 /// What a task keeps from band to band.
 #[derive(Default)]
 struct Band {
-    /// The band's pixels measured up to the projector's visibility, row by row over the
-    /// window's columns.
+    /// Pixels measured up to the projector's visibility, over the window's columns: one row's
+    /// when rows are cut, the band's when blocks are cast.
     lits: Vec<Option<Lit>>,
     /// One row's first hits: slot and distance.
     hits: Vec<Option<(u32, f32)>>,
@@ -511,7 +511,7 @@ fn illuminate(
         normal,
         class: hit.class,
         instance: hit.instance,
-        // the cosine for now: the band turns its pixels' cosines into angles in one tight loop
+        // the cosine for now: `settle` turns a row's cosines into angles in one tight loop
         incidence: normal.dot(-centre).clamp(-1.0, 1.0),
         ..Pixel::EMPTY
     };
