@@ -686,15 +686,9 @@ fn mixed_pixels(scan: &mut Scan, rows: Range<usize>, sensor: &SensorSpec, seed: 
     let none = vec![f32::NAN; w]; // the rows beyond the first and last
     let edges = sensor.noise.edges;
     cast.par_chunks_mut(w).enumerate().for_each(|(r, out)| {
-        let line = |r: Option<usize>| {
-            r.filter(|&r| r < ranges.len() / w)
-                .map(|r| &ranges[r * w..][..w])
-        };
-        let here = line(Some(r)).unwrap_or(&none);
-        let (above, below) = (
-            line(r.checked_sub(1)).unwrap_or(&none),
-            line(Some(r + 1)).unwrap_or(&none),
-        );
+        let line = |r: usize| ranges.get(r * w..(r + 1) * w).unwrap_or(&none);
+        let (here, below) = (line(r), line(r + 1));
+        let above = r.checked_sub(1).map_or(&none[..], line);
         let beside = |c: usize| here.get(c).copied().unwrap_or(f32::NAN);
         for (col, px) in out.iter_mut().enumerate() {
             let range = here[col];
