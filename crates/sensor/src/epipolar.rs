@@ -8,6 +8,7 @@
 //! walked per ray. The cut of an edge is computed from that edge alone, so neighbouring
 //! triangles' segments end at the same point and no ray slips between them.
 
+use std::hint::select_unpredictable;
 use std::ops::Range;
 
 use glam::{Affine3A, DVec2, DVec3, Vec3};
@@ -152,7 +153,7 @@ impl Epipolar {
         } = row_cut;
         // inverse depths: nearer is larger; nothing beyond the reach counts
         depth.clear();
-        depth.resize(cols.len(), (1.0 / self.max_range, u32::MAX));
+        depth.resize(cols.len(), ((1.0 / self.max_range).to_bits(), u32::MAX));
         let column = |x: f64| x * self.fx + self.cx;
         let (first, end) = (cols.start as f64, cols.end as f64);
         for (i, s) in segments.iter().enumerate() {
@@ -169,10 +170,11 @@ impl Epipolar {
             let depth = &mut depth[from - cols.start..to - cols.start];
             for (&x, best) in self.xs[from..to].iter().zip(depth) {
                 let w = a * x + b;
-                // segments come in slot order: of equals, the lower slot stays
-                if w > best.0 && x >= x0 && x <= x1 {
-                    *best = (w, i as u32);
-                }
+                // segments come in slot order: of equals, the lower slot stays (chosen without
+                // a branch: which segment is nearer is as good as random)
+                let nearer = (w > f64::from_bits(best.0)) & (x >= x0) & (x <= x1);
+                best.0 = select_unpredictable(nearer, w.to_bits(), best.0);
+                best.1 = select_unpredictable(nearer, i as u32, best.1);
             }
         }
         let y = *y; // the row's pixel rays' y / z
@@ -182,7 +184,7 @@ impl Epipolar {
                 .iter()
                 .zip(depth.iter())
                 .map(|(&x, &(w, i))| {
-                    let t = (1.0 + x * x + y * y).sqrt() / w;
+                    let t = (1.0 + x * x + y * y).sqrt() / f64::from_bits(w);
                     (i != u32::MAX && t < self.max_range)
                         .then(|| (segments[i as usize].slot, t as f32))
                 }),
@@ -256,8 +258,9 @@ pub(crate) struct RowCut {
     /// The cut plane, y = t·z: its rows' pixel rays' y / z.
     t: f64,
     segments: Vec<Segment>,
-    /// Per column: the nearest inverse depth so far and its segment.
-    depth: Vec<(f64, u32)>,
+    /// Per column: the nearest inverse depth so far (its bits, which a branch-free choice keeps
+    /// in integer registers) and its segment.
+    depth: Vec<(u64, u32)>,
     blockers: Vec<Blocker>,
     starts: Vec<u32>,
     entries: Vec<u32>,
@@ -306,7 +309,9 @@ impl Segment {
     fn cut(tri: &[Vec3; 3], t: f64, slot: u32) -> Option<Segment> {
         let v = tri.map(|v| v.as_dvec3());
         let side = v.map(|v| v.y - t * v.z);
-        if side.iter().all(|&s| s > 0.0) || side.iter().all(|&s| s < 0.0) {
+        let above = (side[0] > 0.0) & (side[1] > 0.0) & (side[2] > 0.0);
+        let below = (side[0] < 0.0) & (side[1] < 0.0) & (side[2] < 0.0);
+        if above | below {
             return None; // the usual case: all on one side
         }
         let mut points = [DVec2::ZERO; 3];
@@ -379,16 +384,16 @@ impl Blocker {
         }
     }
 
-    /// Whether it crosses `ray` at a depth in (0, the ray's end).
+    /// Whether it crosses `ray` at a depth in (0, the ray's end). Every test is made, without
+    /// a branch: which of them fails is as good as random.
     #[inline(always)]
     fn blocks(&self, ray: Ray) -> bool {
-        if self.z_min >= ray.z_end || ray.alpha < self.alpha[0] || ray.alpha > self.alpha[1] {
-            return false;
-        }
+        let within =
+            (self.z_min < ray.z_end) & (ray.alpha >= self.alpha[0]) & (ray.alpha <= self.alpha[1]);
         // the ray's points are (alpha·z, z): on the line where z·(a·alpha + b) = c
         let [a, b, c] = self.line;
         let z = c / (a * ray.alpha + b);
-        z > 0.0 && z < ray.z_end
+        within & (z > 0.0) & (z < ray.z_end)
     }
 }
 
@@ -402,13 +407,18 @@ fn bucket(
 ) {
     starts.clear();
     starts.resize(buckets + 1, 0);
+    // the counts as a difference array (each span adds one where it begins and takes it off
+    // where it ends: no loop whose length varies), summed into each bucket's start
     for span in spans.clone() {
-        for b in span {
-            starts[b + 1] += 1;
-        }
+        debug_assert!(span.start <= span.end, "a span runs backwards: {span:?}");
+        starts[span.start] = starts[span.start].wrapping_add(1);
+        starts[span.end] = starts[span.end].wrapping_sub(1);
     }
-    for b in 0..buckets {
-        starts[b + 1] += starts[b];
+    let (mut covering, mut total) = (0u32, 0u32);
+    for start in starts.iter_mut() {
+        covering = covering.wrapping_add(*start);
+        *start = total;
+        total = total.wrapping_add(covering);
     }
     entries.resize(starts[buckets] as usize, 0);
     for (i, span) in spans.enumerate() {
