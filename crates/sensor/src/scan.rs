@@ -175,6 +175,10 @@ fn scan_pixels(
     // (grown in parallel: a fresh buffer's pages are faulted in by both threads)
     let size = width * k.height as usize;
     pixels.truncate(size);
+    if pixels.capacity() < size {
+        pixels.reserve_exact(size - pixels.len());
+        advise_huge_pages(&mut pixels);
+    }
     pixels.par_extend(rayon::iter::repeat_n(Pixel::EMPTY, size - pixels.len()));
     let [c0, c1, r0, r1] = region.and_then(|reg| reg.pixel_window(k, pose)).unwrap_or([
         0,
@@ -248,6 +252,24 @@ fn scan_pixels(
     }
     scan
 }
+
+/// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB) where it can: a
+/// fresh megapixel buffer then takes hundreds of page faults instead of tens of thousands.
+#[cfg(target_os = "linux")]
+fn advise_huge_pages<T>(v: &mut Vec<T>) {
+    const HUGE: usize = 2 << 20;
+    let spare = v.spare_capacity_mut();
+    let (start, len) = (spare.as_mut_ptr() as usize, std::mem::size_of_val(spare));
+    let (from, to) = (start.next_multiple_of(HUGE), (start + len) / HUGE * HUGE);
+    if to > from {
+        // SAFETY: advice on memory the vector owns and has not yet written; the kernel may
+        // ignore it, and nothing depends on whether it does
+        unsafe { libc::madvise(from as *mut libc::c_void, to - from, libc::MADV_HUGEPAGE) };
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn advise_huge_pages<T>(_: &mut Vec<T>) {}
 
 /// What every pixel of one scan shares.
 struct Setup<'a> {

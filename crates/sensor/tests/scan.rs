@@ -824,7 +824,7 @@ fn reach_bounds_how_far_points_land_from_their_pixel() {
 /// A scan into an earlier scan's buffer, whatever it holds, equals a fresh scan.
 #[test]
 fn scans_reusing_a_buffer_equal_fresh_ones() {
-    let spec = SensorSpec {
+    let spec = |camera| SensorSpec {
         noise: Noise {
             axial: Axial {
                 sigma: 1e-3,
@@ -832,7 +832,7 @@ fn scans_reusing_a_buffer_equal_fresh_ones() {
             },
             ..Noise::default()
         },
-        ..ideal(small_camera(120, 90, 100.0))
+        ..ideal(camera)
     };
     let scene = Scene::new(&[sphere(Vec3::new(0.0, 0.0, 1.0), 0.2, 40), facing_plane(1.5)]);
     let region = Region {
@@ -847,7 +847,13 @@ fn scans_reusing_a_buffer_equal_fresh_ones() {
         };
         20_000
     ];
-    for region in [None, Some(&region)] {
+    // (a 400×300 buffer, 6 MB, spans huge pages: it is advised to use them as it grows)
+    let cameras = [small_camera(120, 90, 100.0), small_camera(400, 300, 330.0)];
+    for (camera, region) in cameras
+        .iter()
+        .flat_map(|&k| [(k, None), (k, Some(&region))])
+    {
+        let spec = spec(camera);
         let fresh = scan_reusing(&scene, &spec, &Affine3A::IDENTITY, 3, region, Vec::new());
         let reused = scan_reusing(&scene, &spec, &Affine3A::IDENTITY, 3, region, dirty.clone());
         // (compared as text: the empty pixels' NaNs are unequal to themselves)
