@@ -77,27 +77,6 @@ impl PointCloud {
         self.xyz.is_empty()
     }
 
-    /// An empty cloud with room for `n` points.
-    pub fn with_capacity(n: usize) -> PointCloud {
-        PointCloud {
-            xyz: Vec::with_capacity(n),
-            normal: Vec::with_capacity(n),
-            intensity: Vec::with_capacity(n),
-            class: Vec::with_capacity(n),
-            instance: Vec::with_capacity(n),
-        }
-    }
-
-    /// Appends one point.
-    #[inline]
-    pub fn push(&mut self, xyz: Vec3, normal: Vec3, intensity: f32, class: u16, instance: u32) {
-        self.xyz.push(xyz);
-        self.normal.push(normal);
-        self.intensity.push(intensity);
-        self.class.push(class);
-        self.instance.push(instance);
-    }
-
     /// The cloud moved by `transform` (points and normals) with points scaled to `units`.
     pub fn transformed(mut self, transform: &Affine3A, units: Units) -> PointCloud {
         let scale = units.scale();
