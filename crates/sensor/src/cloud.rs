@@ -103,32 +103,107 @@ impl Scan {
     }
 
     /// The pixels for which `point` gives a point (camera frame), with their normals, signal
-    /// and labels, in pixel order: the kept pixels found in parallel, then each column filled
-    /// in parallel, allocated to size.
+    /// and labels, in pixel order. Two parallel passes over runs of pixels: the first counts
+    /// each run's points, which places them; the second writes every column of them at once,
+    /// into columns allocated to size.
     pub fn points_where(&self, point: impl Fn(&Pixel) -> Option<Vec3> + Sync) -> PointCloud {
-        let kept: Vec<(u32, Vec3)> = (0u32..self.pixels.len() as u32)
-            .into_par_iter()
-            .zip(&self.pixels)
-            .filter_map(|(i, p)| Some((i, point(p)?)))
+        const RUN: usize = 1 << 14;
+        let counts: Vec<usize> = self
+            .pixels
+            .par_chunks(RUN)
+            .map(|run| run.iter().filter(|p| point(p).is_some()).count())
             .collect();
-        let pixels = &self.pixels;
+        let mut cloud = PointCloud::zeroed(counts.iter().sum());
+        let (mut parts, mut rest) = (Vec::with_capacity(counts.len()), Columns::of(&mut cloud));
+        for &n in &counts {
+            let (part, after) = rest.split_at(n);
+            parts.push(part);
+            rest = after;
+        }
+        self.pixels
+            .par_chunks(RUN)
+            .zip(parts)
+            .for_each(|(run, mut part)| {
+                let kept = run.iter().filter_map(|p| Some((p, point(p)?)));
+                for (k, (p, q)) in kept.enumerate() {
+                    part.set(k, p, q);
+                }
+            });
+        cloud
+    }
+}
+
+impl PointCloud {
+    /// `n` points at the origin with zero labels, the columns filled in parallel (so that both
+    /// threads fault in the pages of a large cloud).
+    fn zeroed(n: usize) -> PointCloud {
+        fn column<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
+            let mut v = Vec::with_capacity(n);
+            v.par_extend(rayon::iter::repeat_n(value, n));
+            v
+        }
         PointCloud {
-            xyz: column(pixels, &kept, |_, q| q),
-            normal: column(pixels, &kept, |p, _| p.normal),
-            intensity: column(pixels, &kept, |p, _| p.intensity),
-            class: column(pixels, &kept, |p, _| p.class),
-            instance: column(pixels, &kept, |p, _| p.instance),
+            xyz: column(n, Vec3::ZERO),
+            normal: column(n, Vec3::ZERO),
+            intensity: column(n, 0.0),
+            class: column(n, 0),
+            instance: column(n, 0),
         }
     }
 }
 
-/// One field of the kept pixels (by index) and their points, as a column.
-fn column<T: Send>(
-    pixels: &[Pixel],
-    kept: &[(u32, Vec3)],
-    field: impl Fn(&Pixel, Vec3) -> T + Sync,
-) -> Vec<T> {
-    kept.par_iter()
-        .map(|&(i, q)| field(&pixels[i as usize], q))
-        .collect()
+/// A run of a cloud's points, every column of it.
+struct Columns<'a> {
+    xyz: &'a mut [Vec3],
+    normal: &'a mut [Vec3],
+    intensity: &'a mut [f32],
+    class: &'a mut [u16],
+    instance: &'a mut [u32],
+}
+
+impl<'a> Columns<'a> {
+    fn of(c: &'a mut PointCloud) -> Columns<'a> {
+        Columns {
+            xyz: &mut c.xyz,
+            normal: &mut c.normal,
+            intensity: &mut c.intensity,
+            class: &mut c.class,
+            instance: &mut c.instance,
+        }
+    }
+
+    /// The first `n` points, and the rest.
+    fn split_at(self, n: usize) -> (Columns<'a>, Columns<'a>) {
+        let (xyz, xyz_rest) = self.xyz.split_at_mut(n);
+        let (normal, normal_rest) = self.normal.split_at_mut(n);
+        let (intensity, intensity_rest) = self.intensity.split_at_mut(n);
+        let (class, class_rest) = self.class.split_at_mut(n);
+        let (instance, instance_rest) = self.instance.split_at_mut(n);
+        (
+            Columns {
+                xyz,
+                normal,
+                intensity,
+                class,
+                instance,
+            },
+            Columns {
+                xyz: xyz_rest,
+                normal: normal_rest,
+                intensity: intensity_rest,
+                class: class_rest,
+                instance: instance_rest,
+            },
+        )
+    }
+
+    /// Point `k` of the run: `q`, with the normal, signal and labels of pixel `p`.
+    #[inline]
+    fn set(&mut self, k: usize, p: &Pixel, q: Vec3) {
+        self.xyz[k] = q;
+        self.normal[k] = p.normal;
+        self.intensity[k] = p.intensity;
+        self.class[k] = p.class;
+        self.instance[k] = p.instance;
+    }
 }

@@ -140,6 +140,52 @@ fn sphere_points_lie_on_the_sphere() {
 }
 
 #[test]
+fn clouds_hold_the_kept_pixels_in_pixel_order_with_their_labels() {
+    // a sphere and a plane with two labels, on more pixels than one run of the cloud's passes
+    let scene = Scene::new(&[
+        sphere(Vec3::new(0.05, -0.02, 2.0), 0.5, 100),
+        quad(Vec3::new(0.0, 0.0, 3.0), Vec3::X * 5.0, Vec3::Y * 5.0, 2, 9),
+    ]);
+    let spec = SensorSpec {
+        noise: Noise {
+            axial: Axial {
+                sigma: 0.002,
+                ..Axial::default()
+            },
+            ..Noise::default()
+        },
+        ..ideal(small_camera(240, 180, 200.0))
+    };
+    let pose = Affine3A::from_translation(Vec3::new(0.1, 0.2, -0.3));
+    let s = scan(&scene, &spec, &pose, 4);
+    let keep = |p: &Pixel| (p.is_valid() && p.point.x > 0.2).then_some(p.point * 2.0);
+    let kept: Vec<&Pixel> = s.pixels.iter().filter(|p| keep(p).is_some()).collect();
+    assert!(
+        kept.len() > 5_000 && kept.len() < s.pixels.len() / 2,
+        "{}",
+        kept.len()
+    );
+    let cloud = s.points_where(keep);
+    assert_eq!(cloud.len(), kept.len());
+    for (k, p) in kept.iter().enumerate() {
+        assert_eq!(cloud.xyz[k], p.point * 2.0);
+        assert_eq!(cloud.normal[k], p.normal);
+        assert_eq!(cloud.intensity[k], p.intensity);
+        assert_eq!((cloud.class[k], cloud.instance[k]), (p.class, p.instance));
+    }
+    assert!(cloud.class.contains(&2) && cloud.class.contains(&3));
+    // the whole cloud, in the world frame and millimetres
+    let world = s.cloud(false, Frame::World, Units::Millimetres);
+    let valid: Vec<&Pixel> = s.pixels.iter().filter(|p| p.is_valid()).collect();
+    assert_eq!(world.len(), valid.len());
+    for (k, p) in valid.iter().enumerate() {
+        assert_eq!(world.xyz[k], pose.transform_point3(p.point) * 1000.0);
+        assert_eq!(world.normal[k], pose.transform_vector3(p.normal));
+    }
+    assert!(s.points_where(|_| None).is_empty());
+}
+
+#[test]
 fn projector_shadow_band_width_follows_from_the_baseline() {
     // occluder at z1 = 1 covering x > 0; background at z2 = 2; projector at x = b:
     // the background in x in [b - b·z2/z1, 0] is lit by no ray: a band b(z2 - z1)/z1 wide
