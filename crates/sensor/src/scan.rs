@@ -2,7 +2,7 @@
 
 use std::ops::Range;
 
-use glam::{Affine3A, Mat3A, Vec3};
+use glam::{Affine3A, DVec3, Mat3A, Vec3};
 use rayon::prelude::*;
 
 use crate::bvh::lanes;
@@ -89,6 +89,21 @@ impl Region {
         near <= far
     }
 
+    /// Its corners in the camera frame of a camera at camera-to-world `pose`: corner `i` takes
+    /// x, y, z from `max` where bit 0, 1, 2 of `i` is set.
+    fn corners_in(&self, pose: &Affine3A) -> [DVec3; 8] {
+        let to_camera = pose.inverse();
+        std::array::from_fn(|i| {
+            let pick = |bit: usize, a: f32, b: f32| if i & bit == 0 { a } else { b };
+            let world = Vec3::new(
+                pick(1, self.min.x, self.max.x),
+                pick(2, self.min.y, self.max.y),
+                pick(4, self.min.z, self.max.z),
+            );
+            to_camera.transform_point3(world).as_dvec3()
+        })
+    }
+
     /// The pixels whose centre rays can cross the box, as columns `c0..c1` and rows `r0..r1`:
     /// the bounding rectangle of its projected corners, widened by a pixel; `None` where that
     /// bounds nothing (a lens with distortion, or a corner not in front of the camera).
@@ -96,16 +111,9 @@ impl Region {
         if !k.distortion.is_none() {
             return None;
         }
-        let to_camera = pose.inverse();
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for corner in 0..8 {
-            let pick = |bit: usize, a: f32, b: f32| if corner & bit == 0 { a } else { b };
-            let world = Vec3::new(
-                pick(1, self.min.x, self.max.x),
-                pick(2, self.min.y, self.max.y),
-                pick(4, self.min.z, self.max.z),
-            );
-            let (u, v) = k.project(to_camera.transform_point3(world))?;
+        for corner in self.corners_in(pose) {
+            let (u, v) = k.project(corner.as_vec3())?;
             (lo, hi) = ([lo[0].min(u), lo[1].min(v)], [hi[0].max(u), hi[1].max(v)]);
         }
         let clamp = |x: f64, n: u32| x.clamp(0.0, n as f64) as usize;
@@ -124,11 +132,12 @@ pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
     scan_pixels(scene, sensor, pose, seed, None, Vec::new())
 }
 
-/// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast. A
-/// point can only lie in a box its ray crosses, so cropping to `region` gives what a full scan
-/// would; neighbour effects (mixed pixels, the Kinect window) and lateral jitter reach
-/// [`SensorSpec::reach_px`] pixels beyond it, so callers crop to a box smaller by that many
-/// pixel footprints.
+/// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast
+/// (with a pinhole camera, each row casts the columns towards the region's cut by the row's
+/// plane, and a column either side, whose rays may miss it). A point can only lie in a box its
+/// ray crosses, so cropping to `region` gives what a full scan would; neighbour effects (mixed
+/// pixels, the Kinect window) and lateral jitter reach [`SensorSpec::reach_px`] pixels beyond
+/// it, so callers crop to a box smaller by that many pixel footprints.
 pub fn scan_within(
     scene: &Scene,
     sensor: &SensorSpec,
@@ -202,6 +211,7 @@ fn scan_pixels(
         pose: *pose,
         origin: Vec3::from(pose.translation),
         region: region.copied(),
+        region_in_camera: region.map(|reg| reg.corners_in(pose)),
         seed,
         bias,
         epipolar: cut.then(|| scene.epipolar(k, pose, baseline, rows, BLOCK, sensor.max_range)),
@@ -286,6 +296,8 @@ struct Setup<'a> {
     origin: Vec3,
     /// Pixels whose centre ray misses this stay empty.
     region: Option<Region>,
+    /// The region's corners in the camera frame.
+    region_in_camera: Option<[DVec3; 8]>,
     seed: u64,
     /// Per-scan range scale and offset.
     bias: (f32, f32),
@@ -298,6 +310,46 @@ impl Setup<'_> {
     fn casts(&self, dir: Vec3) -> bool {
         self.region
             .is_none_or(|reg| reg.crossed_by(self.origin, dir))
+    }
+
+    /// The columns of `cols` in `row` (of a pinhole camera) whose centre rays may cross the
+    /// region: those towards the cut of the region by the row's plane, with a column to spare
+    /// either side; all of `cols` without a region or where the cut reaches behind the camera.
+    fn region_columns(&self, row: usize, cols: &Range<usize>) -> Range<usize> {
+        let Some(corners) = &self.region_in_camera else {
+            return cols.clone();
+        };
+        let k = &self.sensor.intrinsics;
+        // the plane's points are y = t·z; its cut of the box is a convex polygon whose corners
+        // lie on the box's edges, and a centre ray (x / z, t, 1) meets it where x / z lies
+        // between the smallest and largest x / z of those corners
+        let t = (row as f64 - k.cy) / k.fy;
+        let side = corners.map(|c| c.y - t * c.z);
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (i, j) in BOX_EDGES {
+            let (p, q, sp, sq) = (corners[i], corners[j], side[i], side[j]);
+            if sp * sq > 0.0 {
+                continue; // both corners on one side
+            }
+            let ends = if sp == sq {
+                [p, q]
+            } else {
+                [p + (q - p) * (sp / (sp - sq)); 2]
+            };
+            for e in ends {
+                if e.z <= NEAR {
+                    return cols.clone();
+                }
+                (lo, hi) = (lo.min(e.x / e.z), hi.max(e.x / e.z));
+            }
+        }
+        if lo > hi {
+            return cols.start..cols.start; // the plane misses the box
+        }
+        let column = |x: f64, spare: f64| {
+            (x * k.fx + k.cx + spare).clamp(cols.start as f64, cols.end as f64) as usize
+        };
+        column(lo, -1.0)..column(hi, 2.0) // casts round towards zero: a column more on the right
     }
 
     /// Measures the band's pixels over `cols` in its rows' epipolar planes, row by row: each
@@ -320,15 +372,16 @@ impl Setup<'_> {
         lits.resize(cols.len(), None); // one row's, each written before it is read
         for (r, line) in out.chunks_mut(k.width as usize).enumerate() {
             let row = BLOCK * band + r;
+            let span = self.region_columns(row, cols);
             epipolar.cut(row, cut);
-            epipolar.first_hits(cut, cols, hits);
+            epipolar.first_hits(cut, &span, hits);
             // every pixel and lit of the row written once: measured, or empty
-            for ((c, hit), lit) in cols.clone().zip(hits.iter()).zip(lits.iter_mut()) {
-                let seen = hit.and_then(|(slot, t)| {
+            for (c, lit) in cols.clone().zip(lits.iter_mut()) {
+                let hit = hits.get(c.wrapping_sub(span.start)).copied().flatten();
+                let seen = hit.map(|(slot, t)| {
                     let centre = epipolar.centre_ray(cut, c);
                     let dir = self.pose.transform_vector3(centre);
-                    let hit = || (centre, self.scene.describe_slot(slot, t, dir));
-                    self.casts(dir).then(hit)
+                    (centre, self.scene.describe_slot(slot, t, dir))
                 });
                 *lit = match seen {
                     Some((centre, hit)) => illuminate(self, c, row, centre, hit, &mut line[c]),
@@ -483,6 +536,25 @@ fn block_pixel(col: usize, g: usize, lane: usize) -> (usize, usize) {
         2 * (g / (BLOCK / 2)) + lane / 2,
     )
 }
+
+/// The edges of a box, as pairs of corners numbered as in [`Region::corners_in`].
+const BOX_EDGES: [(usize, usize); 12] = [
+    (0, 1),
+    (2, 3),
+    (4, 5),
+    (6, 7),
+    (0, 2),
+    (1, 3),
+    (4, 6),
+    (5, 7),
+    (0, 4),
+    (1, 5),
+    (2, 6),
+    (3, 7),
+];
+
+/// Nearest depth, m, at which a region's cut by a row's plane is bounded in columns.
+const NEAR: f64 = 1e-6;
 
 /// Pixels per side of the blocks a scan casts as one packet.
 const BLOCK: usize = 4;

@@ -836,6 +836,53 @@ fn region_pixel_window_holds_every_crossing_pixel() {
     assert_eq!(region.pixel_window(&distorted, &pose), None);
 }
 
+#[test]
+fn region_scans_cast_every_crossing_pixel_and_little_else() {
+    // a floor under the region, seen from all around: each row casts the columns towards the
+    // region's cut by the row's plane, which is no polygon the pixel window is
+    let spec = ideal(small_camera(160, 120, 150.0));
+    let floor = quad(
+        Vec3::new(0.0, 0.0, -0.2),
+        Vec3::X * 8.0,
+        Vec3::Y * 8.0,
+        1,
+        1,
+    );
+    let scene = Scene::new(&[floor]);
+    let region = Region {
+        min: Vec3::new(-0.12, -0.05, -0.08),
+        max: Vec3::new(0.1, 0.07, 0.04),
+    };
+    for i in 0..12 {
+        let a = i as f32 * 0.9;
+        let eye = Vec3::new(a.cos() * 0.6, a.sin() * 0.5, 0.3 + 0.1 * (i % 3) as f32);
+        let pose = look_at(eye, Vec3::new(0.02 * (i % 5) as f32, 0.0, 0.0), Vec3::Z).unwrap();
+        let full = scan(&scene, &spec, &pose, 1);
+        let part = scan_within(&scene, &spec, &pose, 1, &region);
+        let (mut crossing, mut cast) = (0, 0);
+        for (p, (whole, within)) in full.pixels.iter().zip(&part.pixels).enumerate() {
+            let (c, r) = (p % 160, p / 160);
+            let dir = pose.transform_vector3(spec.intrinsics.ray(c as f64, r as f64));
+            let cast_here = !within.clean.x.is_nan();
+            cast += cast_here as usize;
+            if region.crossed_by(Vec3::from(pose.translation), dir) && whole.is_valid() {
+                crossing += 1;
+                assert!(
+                    cast_here,
+                    "pose {i}: pixel ({c}, {r}) crosses but was not cast"
+                );
+                assert_eq!(within, whole);
+            }
+        }
+        assert!(crossing > 500, "pose {i}: {crossing}");
+        // a column to spare either side of each row's cut, and a third on the right
+        assert!(
+            cast <= crossing + 3 * 120,
+            "pose {i}: {cast} cast, {crossing} crossing"
+        );
+    }
+}
+
 /// [`SensorSpec::reach_px`] bounds how far a measured point lands from its own pixel (lateral
 /// jitter), so that datasets grow their scan regions enough.
 #[test]
