@@ -18,7 +18,7 @@ use crate::camera::Intrinsics;
 
 /// Nothing is seen, nor shadows, closer to the camera's plane than this, m: segments are
 /// clipped to it (their angles grow without bound towards the plane).
-const NEAR: f64 = 1e-6;
+pub(crate) const NEAR: f64 = 1e-6;
 
 /// Width of a bin of projector angle, in camera pixels.
 const BIN_PX: f64 = 2.0;

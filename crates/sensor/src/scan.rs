@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::bvh::lanes;
 use crate::camera::Intrinsics;
-use crate::epipolar::{Epipolar, Ray, RowCut};
+use crate::epipolar::{Epipolar, NEAR, Ray, RowCut};
 use crate::noise::{PixelRng, stream};
 use crate::scene::{Scene, SurfaceHit};
 use crate::sensor::{Frustum, Model, SensorSpec};
@@ -552,9 +552,6 @@ const BOX_EDGES: [(usize, usize); 12] = [
     (2, 6),
     (3, 7),
 ];
-
-/// Nearest depth, m, at which a region's cut by a row's plane is bounded in columns.
-const NEAR: f64 = 1e-6;
 
 /// Pixels per side of the blocks a scan casts as one packet.
 const BLOCK: usize = 4;
