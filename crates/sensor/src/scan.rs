@@ -786,15 +786,19 @@ fn mixed_pixels(scan: &mut Scan, rows: Range<usize>, sensor: &SensorSpec, seed: 
             let range = here[col];
             let step = |other: f32| (other - range).abs();
             // the 4-neighbours' ranges (NaN: no point) and the largest difference to one,
-            // found without branches; the few edges then draw
+            // found without branches (a NaN difference never compares greater: one `maxss`
+            // each); the few edges then draw
             let neighbours = [
                 beside(col.wrapping_sub(1)),
                 beside(col + 1),
                 above[col],
                 below[col],
             ];
-            let gap = neighbours.map(step).into_iter().fold(f32::NAN, f32::max);
-            if gap.is_nan() || gap <= edges.jump {
+            let gap = neighbours
+                .map(step)
+                .into_iter()
+                .fold(f32::NEG_INFINITY, |gap, s| if s > gap { s } else { gap });
+            if gap <= edges.jump {
                 continue; // no point, no neighbour with one, or no edge
             }
             let rng = PixelRng::new(seed, ((rows.start + r) * w + col) as u64);
