@@ -3,7 +3,8 @@ the same mesh and rays, one after the other in one invocation.
 
 Workload: primary rays of a 1944 x 1200 pinhole camera (the Zivid 2 resolution) on a
 tessellated sphere-on-plane scene of about 200k and 2M triangles, returning distance, triangle id
-and normal, on 2 threads.
+and normal, on 2 threads. Rays whose distances differ by more than 1 mm are re-cast in float64
+against every triangle, to say which caster was right.
 
 Usage: python3 bench/raycast_peers.py [--threads 2] [--repeats 5] [--sizes 200000,2000000]
 Needs: pip install numpy open3d (and Debian's libusb-1.0-0); builds the Rust side itself.
@@ -73,6 +74,38 @@ def open3d_rate(vertices, tris, rays, threads, repeats):
     return build, len(rays) / times[0] / 1e6, len(rays) / times[len(times) // 2] / 1e6, t, ids, normals
 
 
+def first_hit_f64(vertices, tris, ray):
+    """The nearest hit distance of one ray on every triangle, Moller-Trumbore in float64 (inf
+    where it misses): the referee where the two casters disagree."""
+    o, d = ray[:3].astype(np.float64), ray[3:].astype(np.float64)
+    p = vertices[tris].astype(np.float64)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    pv = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, pv)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tv = o - p[:, 0]
+        u = np.einsum("ij,ij->i", tv, pv) / det
+        q = np.cross(tv, e1)
+        v = (q @ d) / det
+        t = np.einsum("ij,ij->i", e2, q) / det
+    hit = (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+    return t[hit].min() if hit.any() else np.inf
+
+
+def referee(vertices, tris, rays, ours, theirs, limit=20):
+    """Rays whose hit distances differ by more than 1 mm (or where only one caster hits),
+    re-cast in float64: (how many differ, how many of the first `limit` the float64 cast agrees
+    with us on, and with Open3D on)."""
+    a, b = np.nan_to_num(ours, posinf=np.inf, nan=np.inf), np.nan_to_num(theirs, posinf=np.inf, nan=np.inf)
+    differ = np.where(~np.isclose(a, b, rtol=0, atol=1e-3) & (np.isfinite(a) | np.isfinite(b)))[0]
+    with_us = with_them = 0
+    for i in differ[:limit]:
+        t = first_hit_f64(vertices, tris, rays[i])
+        with_us += bool(np.isclose(t, a[i], rtol=0, atol=1e-4) or (np.isinf(t) and np.isinf(a[i])))
+        with_them += bool(np.isclose(t, b[i], rtol=0, atol=1e-4) or (np.isinf(t) and np.isinf(b[i])))
+    return len(differ), min(len(differ), limit), with_us, with_them
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--threads", type=int, default=2)
@@ -102,12 +135,15 @@ def main():
             agree = np.mean(np.isfinite(t) == np.isfinite(hits[:, 0]))
             t_err = np.max(np.abs(t[both] - hits[both, 0])) if both.any() else 0.0
             n_dot = np.mean(np.abs(np.sum(normals[both] * hits[both, 2:5], 1)) > 0.999)
+            differ, judged, with_us, with_them = referee(vertices, tris, rays, hits[:, 0], t)
             ours, single = runs["packets"], runs["single"]
             print(f"{len(tris) / 1e3:.0f}k triangles: motorfactory packets of 16 {ours['best_mrays']:.2f} Mrays/s (median {ours['median_mrays']:.2f}), "
                   f"single rays {single['best_mrays']:.2f} (median {single['median_mrays']:.2f}), build {ours['build_s']:.3f} s, "
                   f"packet hits identical to single: {same}; "
                   f"Open3D {best:.2f} Mrays/s (median {median:.2f}, build {build:.3f} s); ratio {ours['best_mrays'] / best:.2f}x; "
-                  f"hit/miss agreement {agree:.5f}, max |dt| {t_err:.2e} m, normals agree {n_dot:.4f}")
+                  f"hit/miss agreement {agree:.5f}, max |dt| {t_err:.2e} m, normals agree {n_dot:.4f}; "
+                  f"{differ} rays differ by > 1 mm, of {judged} re-cast in float64 {with_us} agree with motorfactory, "
+                  f"{with_them} with Open3D")
 
 
 if __name__ == "__main__":
