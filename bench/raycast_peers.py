@@ -74,12 +74,11 @@ def open3d_rate(vertices, tris, rays, threads, repeats):
     return build, len(rays) / times[0] / 1e6, len(rays) / times[len(times) // 2] / 1e6, t, ids, normals
 
 
-def first_hit_f64(vertices, tris, ray):
-    """The nearest hit distance of one ray on every triangle, Moller-Trumbore in float64 (inf
-    where it misses): the referee where the two casters disagree."""
+def first_hit_f64(p, e1, e2, ray):
+    """The nearest hit distance of one ray on every triangle (corners `p`, edges `e1` and `e2`
+    from the first corner, float64), Moller-Trumbore in float64 (inf where it misses): the
+    referee where the two casters disagree."""
     o, d = ray[:3].astype(np.float64), ray[3:].astype(np.float64)
-    p = vertices[tris].astype(np.float64)
-    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
     pv = np.cross(d, e2)
     det = np.einsum("ij,ij->i", e1, pv)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -99,8 +98,10 @@ def referee(vertices, tris, rays, ours, theirs, limit=20):
     a, b = np.nan_to_num(ours, posinf=np.inf, nan=np.inf), np.nan_to_num(theirs, posinf=np.inf, nan=np.inf)
     differ = np.where(~np.isclose(a, b, rtol=0, atol=1e-3) & (np.isfinite(a) | np.isfinite(b)))[0]
     with_us = with_them = 0
+    p = vertices[tris].astype(np.float64)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
     for i in differ[:limit]:
-        t = first_hit_f64(vertices, tris, rays[i])
+        t = first_hit_f64(p, e1, e2, rays[i])
         with_us += bool(np.isclose(t, a[i], rtol=0, atol=1e-4) or (np.isinf(t) and np.isinf(a[i])))
         with_them += bool(np.isclose(t, b[i], rtol=0, atol=1e-4) or (np.isinf(t) and np.isinf(b[i])))
     return len(differ), min(len(differ), limit), with_us, with_them
