@@ -3,23 +3,11 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use scene::config::{BUILTIN, builtin_table, default_table};
 use scene::{Dataset, Shard, overlay, parse_value, set_key};
 
 use crate::error::{CliError, CliResult, choice};
 use crate::progress::Progress;
-
-/// The configurations shipped in `configs/`, built into the binary.
-pub const CONFIGS: [(&str, &str); 6] = [
-    ("default", scene::DEFAULT_CONFIG),
-    ("synmotor", include_str!("../configs/synmotor.toml")),
-    ("zivid", include_str!("../configs/zivid.toml")),
-    ("registration", include_str!("../configs/registration.toml")),
-    (
-        "sweep-pole-pot",
-        include_str!("../configs/sweep-pole-pot.toml"),
-    ),
-    ("sweep-noise", include_str!("../configs/sweep-noise.toml")),
-];
 
 /// Generate a labelled dataset: motors in the work cell, scanned, cropped and augmented.
 #[derive(Debug, Args)]
@@ -71,11 +59,11 @@ impl ConfigCmd {
     pub fn run(&self) -> CliResult<()> {
         match (&self.print, self.list) {
             (Some(name), _) => {
-                print!("{}", choice("print", name, &CONFIGS)?);
+                print!("{}", choice("print", name, &BUILTIN)?);
                 Ok(())
             }
             (None, true) => {
-                for (name, _) in CONFIGS {
+                for (name, _) in BUILTIN {
                     println!("{name}");
                 }
                 Ok(())
@@ -96,22 +84,19 @@ fn scene_error(e: scene::Error) -> CliError {
 impl GenerateCmd {
     /// Reads the configuration and applies `--set`.
     fn table(&self) -> CliResult<toml::Table> {
-        let (text, name) = match self.config.as_deref() {
-            None => (scene::DEFAULT_CONFIG.to_string(), "default"),
-            Some(c) => match CONFIGS.iter().find(|(n, _)| *n == c) {
-                Some((_, text)) => (text.to_string(), c),
-                None => (
-                    std::fs::read_to_string(c)
-                        .map_err(|e| CliError::Usage(format!("config {c}: {e}")))?,
-                    c,
-                ),
-            },
+        let name = self.config.as_deref().unwrap_or("default");
+        let mut table = match builtin_table(name) {
+            Some(table) => table,
+            None => {
+                let text = std::fs::read_to_string(name)
+                    .map_err(|e| CliError::Usage(format!("config {name}: {e}")))?;
+                let top = toml::from_str(&text)
+                    .map_err(|e| CliError::Usage(format!("config {name}: {e}")))?;
+                let mut table = default_table();
+                overlay(&mut table, top);
+                table
+            }
         };
-        let top: toml::Table =
-            toml::from_str(&text).map_err(|e| CliError::Usage(format!("config {name}: {e}")))?;
-        let mut table: toml::Table =
-            toml::from_str(scene::DEFAULT_CONFIG).expect("the default config is valid TOML");
-        overlay(&mut table, top);
         for s in &self.sets {
             let (key, value) = s.split_once('=').ok_or_else(|| {
                 CliError::Usage(format!(

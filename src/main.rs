@@ -25,7 +25,7 @@ enum Command {
     /// Build many motors in parallel from a parameter space.
     Motors(motors::MotorsCmd),
     /// List every motor parameter with its range, default and meaning.
-    Params,
+    Params(motors::ParamsCmd),
     /// Scan meshes with a simulated depth sensor.
     Scan(scan::ScanCmd),
     /// Generate a labelled point-cloud dataset from a TOML configuration.
@@ -41,7 +41,7 @@ fn main() {
     let result = match &cli.command {
         Command::Motor(cmd) => cmd.run(),
         Command::Motors(cmd) => cmd.run(),
-        Command::Params => motors::print_params(),
+        Command::Params(cmd) => cmd.run(),
         Command::Scan(cmd) => cmd.run(),
         Command::Generate(cmd) => cmd.run(),
         Command::Config(cmd) => cmd.run(),

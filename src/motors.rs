@@ -53,7 +53,7 @@ pub struct MeshArgs {
     /// `{ uniform = [0.062, 0.07] }` or "auto". See `motorfactory params`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     sets: Vec<String>,
-    /// Configuration file ([params] distributions and export options).
+    /// Configuration file (`[params]` distributions and export options).
     #[arg(long)]
     config: Option<PathBuf>,
     /// Global seed.
@@ -261,23 +261,33 @@ impl MotorsCmd {
     }
 }
 
-/// Prints the parameter table: key, allowed values, default and meaning. A closed pipe (as
-/// with `| head`) ends the listing quietly.
-pub fn print_params() -> CliResult<()> {
-    let mut out = std::io::stdout().lock();
-    for p in PARAMS {
-        let line = writeln!(
-            out,
-            "{}\n    {}; default {}\n    {}\n",
-            p.key,
-            p.kind.allowed(),
-            p.default.value(),
-            p.doc
-        );
-        match line {
-            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => break,
-            other => other.map_err(|e| CliError::Runtime(e.to_string()))?,
+/// `params`: every motor parameter.
+#[derive(Debug, Args)]
+pub struct ParamsCmd {
+    /// Print a Markdown table (as in docs/motors.md) instead of plain text
+    #[arg(long)]
+    markdown: bool,
+}
+
+impl ParamsCmd {
+    /// Prints the parameter table: key, allowed values, default and meaning. A closed pipe (as
+    /// with `| head`) ends the listing quietly.
+    pub fn run(&self) -> CliResult<()> {
+        let mut text = String::new();
+        if self.markdown {
+            text.push_str("| key | allowed | default | meaning |\n|---|---|---|---|\n");
+        }
+        for p in PARAMS {
+            let (key, allowed, default, doc) = (p.key, p.kind.allowed(), p.default.value(), p.doc);
+            text.push_str(&if self.markdown {
+                format!("| `{key}` | {allowed} | {default} | {doc} |\n")
+            } else {
+                format!("{key}\n    {allowed}; default {default}\n    {doc}\n\n")
+            });
+        }
+        match std::io::stdout().lock().write_all(text.as_bytes()) {
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+            other => other.map_err(|e| CliError::Runtime(e.to_string())),
         }
     }
-    Ok(())
 }

@@ -8,7 +8,7 @@ use glam::Vec3;
 use motorgen::Scheme;
 use motorgen::export::write_atomic;
 use sensor::formats::*;
-use sensor::{Frame, Scene, SensorSpec, Units, look_at, scan};
+use sensor::{Frame, SensorSpec, Units, World, look_at, scan};
 
 use crate::error::{CliError, CliResult, choice};
 use crate::meshio::read_targets;
@@ -142,8 +142,8 @@ impl ScanCmd {
         })?;
 
         let start = std::time::Instant::now();
-        let scene = Scene::new(&targets);
-        let result = scan(&scene, &spec, &pose, self.seed);
+        let world = World::new(&targets);
+        let result = scan(&world, &spec, &pose, self.seed);
         let cloud = result.cloud(false, frame, units);
         let palette: Vec<[u8; 3]> = Scheme::SynMotor.classes().iter().map(|c| c.color).collect();
         let save = |name: &str, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| {
@@ -166,7 +166,7 @@ impl ScanCmd {
             "points": cloud.len(),
             "pixels": { "width": result.width, "height": result.height, "valid": result.valid_count() },
             "depth_png_metres_per_unit": DEPTH_PNG_METRES_PER_UNIT,
-            "triangles": scene.triangle_count(),
+            "triangles": world.triangle_count(),
         });
         save("scan.json", &|w| {
             serde_json::to_writer_pretty(&mut *w, &summary)?;
@@ -177,7 +177,7 @@ impl ScanCmd {
             cloud.len(),
             result.valid_count(),
             result.pixels.len(),
-            scene.triangle_count(),
+            world.triangle_count(),
             start.elapsed().as_secs_f64(),
             self.out.display()
         );

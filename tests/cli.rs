@@ -229,12 +229,59 @@ fn motors_are_identical_for_any_thread_count() {
 }
 
 #[test]
-fn params_lists_every_parameter() {
+fn params_lists_every_parameter_with_its_range_default_and_meaning() {
     let o = run(&["params"]);
     assert!(o.status.success());
     let text = String::from_utf8(o.stdout).unwrap();
-    for p in motorgen::params::PARAMS {
-        assert!(text.contains(&format!("{}\n", p.key)), "{}", p.key);
+    let entries: Vec<&str> = text.split_terminator("\n\n").collect();
+    assert_eq!(entries.len(), motorgen::params::PARAMS.len());
+    for (entry, p) in entries.iter().zip(motorgen::params::PARAMS) {
+        let lines: Vec<&str> = entry.lines().collect();
+        let allowed = format!("    {}; default {}", p.kind.allowed(), p.default.value());
+        assert_eq!(lines, [p.key, &allowed, &format!("    {}", p.doc)]);
+    }
+}
+
+#[test]
+fn the_parameter_table_in_the_docs_is_what_params_prints() {
+    let o = run(&["params", "--markdown"]);
+    assert!(o.status.success());
+    let table = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(table.lines().count(), motorgen::params::PARAMS.len() + 2);
+    let doc = std::fs::read_to_string("docs/motors.md").unwrap();
+    let (_, rest) = doc.split_once("<!-- params:begin -->\n").unwrap();
+    let (documented, _) = rest.split_once("<!-- params:end -->").unwrap();
+    assert_eq!(
+        documented, table,
+        "docs/motors.md: paste `motorfactory params --markdown` between the params markers"
+    );
+}
+
+#[test]
+fn the_cli_reference_lists_every_command_and_option() {
+    let doc = std::fs::read_to_string("docs/cli.md").unwrap();
+    let sections: Vec<&str> = doc.split("\n## `").skip(1).collect();
+    let commands = [
+        "motor", "motors", "params", "scan", "generate", "config", "preview",
+    ];
+    let documented: Vec<&str> = sections
+        .iter()
+        .map(|s| s.split('`').next().unwrap())
+        .collect();
+    assert_eq!(documented, commands);
+    for (command, section) in commands.iter().zip(&sections) {
+        let help = String::from_utf8(run(&[command, "--help"]).stdout).unwrap();
+        let options = help
+            .split_whitespace()
+            .filter_map(|w| w.strip_prefix("--"))
+            .map(|w| w.trim_end_matches(|c: char| !c.is_ascii_alphanumeric()))
+            .filter(|w| !w.is_empty() && *w != "help");
+        for option in options {
+            assert!(
+                section.contains(&format!("--{option}")),
+                "docs/cli.md, `{command}`: --{option} is not documented"
+            );
+        }
     }
 }
 
@@ -470,11 +517,10 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
 }
 
 #[test]
-fn readme_sensor_example_is_a_valid_sensor() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
-    let after = readme
-        .split("A custom sensor is a TOML file")
+fn the_documented_custom_sensor_is_a_valid_sensor() {
+    let doc = std::fs::read_to_string("docs/sensors.md").unwrap();
+    let after = doc
+        .split("## Custom sensors")
         .nth(1)
         .unwrap();
     let block = after

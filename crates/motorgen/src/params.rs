@@ -425,6 +425,10 @@ impl Kind {
 
 impl ParamSpec {
     /// Checks a value for this parameter.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] naming the key, the value and what is allowed.
     pub fn check(&self, value: &Value) -> Result<(), Error> {
         if self.kind.accepts(value) {
             Ok(())
@@ -543,6 +547,12 @@ pub const MIN_UPPER_BOLT_GAP_DEG: f32 = 10.0;
 impl MotorParams {
     /// Builds parameters from key/value pairs; missing keys take their defaults. Unknown keys,
     /// wrong types, out-of-range values and inconsistent combinations are refused.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unknown`] for a key that is not a parameter,
+    /// [`Error::Invalid`] for a value it does not allow, or the errors of
+    /// [`MotorParams::validate`].
     pub fn from_values(values: &BTreeMap<String, Value>) -> Result<MotorParams, Error> {
         if let Some(key) = values.keys().find(|k| spec(k).is_none()) {
             return Err(Error::unknown(key));
@@ -581,6 +591,12 @@ impl MotorParams {
     }
 
     /// Checks the rules that tie parameters together.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] for a value out of range,
+    /// [`Error::Conflict`] for values that cannot hold together (bolt
+    /// angles too close).
     pub fn validate(&self) -> Result<(), Error> {
         if self.motor_type == MotorType::A {
             let used = &self.upper_bolt_angles_deg();

@@ -42,6 +42,11 @@ struct DistTable {
 
 impl Dist {
     /// Parses a TOML value into a distribution (not yet checked against a parameter).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Distribution`] naming the key, for a value of the wrong
+    /// type or a distribution whose form or range the parameter does not allow.
     pub fn from_toml(key: &str, value: toml::Value) -> Result<Dist> {
         let bad = |message: String| Error::Distribution {
             key: key.into(),
@@ -75,6 +80,10 @@ impl Dist {
     }
 
     /// Parses the right-hand side of `--set key=value`: any TOML value, or a bare word as text.
+    ///
+    /// # Errors
+    ///
+    /// As [`Dist::from_toml`], for the value parsed from `text`.
     pub fn from_cli(key: &str, text: &str) -> Result<Dist> {
         let value = toml::from_str::<toml::Table>(&format!("v = {text}"))
             .ok()
@@ -116,6 +125,11 @@ impl ParamSpace {
     }
 
     /// Reads a TOML table of `key = distribution` entries.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unknown`] for a key that is not a parameter, or the errors
+    /// of [`Dist::from_toml`] and [`ParamSpace::check`].
     pub fn from_toml(table: &toml::Table) -> Result<ParamSpace> {
         let mut space = ParamSpace::default();
         for (key, value) in table {
@@ -126,6 +140,12 @@ impl ParamSpace {
     }
 
     /// Sets one parameter's distribution, checking it against the parameter.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Unknown`] for a key that is not a parameter (with the
+    /// nearest key as a hint), or [`Error::Distribution`] for a
+    /// distribution that cannot give an allowed value of it.
     pub fn set(&mut self, key: &str, dist: Dist) -> Result<()> {
         let spec = spec(key).ok_or_else(|| Error::unknown(key))?;
         let bad = |message: String| Error::Distribution {
@@ -182,6 +202,11 @@ impl ParamSpace {
 
     /// Checks rules between parameters: the upper-gear bolt angles are all "auto" or all given,
     /// and given ones are ordered with at least 10° between any two draws.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Distribution`] naming the upper-gear bolt angle that
+    /// breaks either rule.
     pub fn check(&self) -> Result<()> {
         let keys = ["upper_bolt_1_deg", "upper_bolt_2_deg", "upper_bolt_3_deg"];
         let given: Vec<Option<(f64, f64)>> = keys.iter().map(|k| self.get(k).bounds()).collect();
@@ -210,6 +235,11 @@ impl ParamSpace {
 
     /// Draws one motor. Each parameter has its own random stream (seed, parameter index), so a
     /// change to one parameter's distribution leaves every other draw unchanged.
+    ///
+    /// # Errors
+    ///
+    /// The errors of [`MotorParams::from_values`] when the drawn values do not form a valid
+    /// motor (fixed values that contradict each other).
     pub fn sample(&self, seed: u64) -> Result<MotorParams> {
         let mut values: BTreeMap<String, Value> = BTreeMap::new();
         for (index, spec) in PARAMS.iter().enumerate() {

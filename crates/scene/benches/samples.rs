@@ -4,12 +4,10 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use scene::{Config, Recipe, make, overlay};
+use scene::{Config, Recipe, make};
 
 fn recipe(name: &str) -> Recipe {
-    let text = std::fs::read_to_string(format!("../../configs/{name}.toml")).unwrap();
-    let mut table: toml::Table = toml::from_str(scene::DEFAULT_CONFIG).unwrap();
-    overlay(&mut table, toml::from_str(&text).unwrap());
+    let table = scene::config::builtin_table(name).unwrap();
     Recipe::new(Config::from_table(&table).unwrap(), Vec::new()).unwrap()
 }
 

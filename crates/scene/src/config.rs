@@ -105,7 +105,7 @@ impl Variant {
 
 /// `[motor]`: which motors are built.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct MotorConfig {
     /// Variants in turn (sample i gets `variants[i % len]`: equal numbers of each); empty: the
     /// parameter distributions decide.
@@ -119,30 +119,12 @@ pub struct MotorConfig {
     pub params: toml::Table,
 }
 
-impl Default for MotorConfig {
-    fn default() -> MotorConfig {
-        MotorConfig {
-            variants: vec![
-                Variant::A0,
-                Variant::A1,
-                Variant::A2,
-                Variant::B0,
-                Variant::B1,
-            ],
-            detail: Detail::Normal,
-            cover_removed: 0.0,
-            // SynMotor used Torx bits only
-            params: toml::Table::from_iter([("bolt_drive".to_string(), "torx".into())]),
-        }
-    }
-}
-
 /// Shifts of one fixture part along world x, y and z, m.
 pub type Shift = [Span; 3];
 
 /// `[cell.fixture]`: how far each fixture part moves in scenes with fixture shifts.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct FixtureConfig {
     /// Fixed jaw (the jaw on the −y side).
     pub fixed_jaw: Shift,
@@ -154,21 +136,9 @@ pub struct FixtureConfig {
     pub cylinder: Shift,
 }
 
-impl Default for FixtureConfig {
-    fn default() -> FixtureConfig {
-        let s = Span::new;
-        FixtureConfig {
-            fixed_jaw: [s(-0.01, 0.01), s(-0.01, 0.0), s(-0.01, 0.0)],
-            sliding_jaw: [s(-0.01, 0.01), s(0.0, 0.01), s(-0.01, 0.0)],
-            pillar: [s(-0.04, 0.04), s(-0.02, 0.02), s(-0.005, 0.005)],
-            cylinder: [s(-0.005, 0.005), s(0.0, 0.01), s(-0.005, 0.005)],
-        }
-    }
-}
-
 /// `[cell.occluders]`: mask panels near the gearbox.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct OccluderConfig {
     /// Number of panels (drawn uniformly between the bounds, inclusive).
     pub count: [u32; 2],
@@ -182,21 +152,9 @@ pub struct OccluderConfig {
     pub tilt_deg: f32,
 }
 
-impl Default for OccluderConfig {
-    fn default() -> OccluderConfig {
-        OccluderConfig {
-            count: [1, 2],
-            size: Span::new(0.03, 0.07),
-            height: Span::new(0.005, 0.03),
-            spread: 0.05,
-            tilt_deg: 20.0,
-        }
-    }
-}
-
 /// `[cell]`: the work cell.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct CellConfig {
     /// Largest rotation of the motor about world x (its axis), y and z, degrees (Euler XYZ,
     /// about the motor's centre).
@@ -209,23 +167,11 @@ pub struct CellConfig {
     pub occluders: OccluderConfig,
 }
 
-impl Default for CellConfig {
-    fn default() -> CellConfig {
-        CellConfig {
-            pose_jitter_deg: [15.0, 5.0, 5.0],
-            clearance: 0.015,
-            fixture: FixtureConfig::default(),
-            occluders: OccluderConfig::default(),
-        }
-    }
-}
-
 /// How camera poses are chosen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Rig {
     /// On a spherical cap over the motor, looking at its centre.
-    #[default]
     Cap,
     /// One pose (`look_at`).
     Fixed,
@@ -235,7 +181,7 @@ pub enum Rig {
 
 /// `[camera]`: the camera rig.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct CameraConfig {
     /// cap, fixed or list.
     pub rig: Rig,
@@ -257,25 +203,9 @@ pub struct CameraConfig {
     pub up: [f32; 3],
 }
 
-impl Default for CameraConfig {
-    fn default() -> CameraConfig {
-        CameraConfig {
-            rig: Rig::Cap,
-            views: 1,
-            distance: Span::new(0.56, 0.64),
-            tilt_deg: Span::new(0.0, 15.0),
-            azimuth_deg: Span::new(0.0, 360.0),
-            roll_deg: Span::new(-25.0, 25.0),
-            look_at: [0.0, 0.0, 0.6, 0.0, 0.0, 0.0],
-            poses: Vec::new(),
-            up: [0.0, 1.0, 0.0],
-        }
-    }
-}
-
 /// `[sensor]`: the simulated camera.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct SensorConfig {
     /// A preset name (`motorfactory scan --help` lists them).
     pub preset: String,
@@ -287,19 +217,13 @@ pub struct SensorConfig {
     pub binning: u32,
 }
 
-impl Default for SensorConfig {
-    fn default() -> SensorConfig {
-        SensorConfig {
-            preset: "zivid-2plus-m60".into(),
-            spec: None,
-            noise: None,
-            binning: 4,
-        }
-    }
-}
-
 impl SensorConfig {
     /// The sensor with binning applied, checked.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] for an unknown preset, a binning other than 1, 2 or
+    /// 4, or a specification the sensor rejects.
     pub fn resolve(&self) -> Result<SensorSpec> {
         let mut spec = match &self.spec {
             Some(spec) => spec.clone(),
@@ -322,7 +246,7 @@ impl SensorConfig {
 /// `[crop]`: the cuboid around the motor, each face's offset from the motor's centre (world
 /// axes), m, drawn per sample.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct CropConfig {
     /// −x face.
     pub x_min: Span,
@@ -336,21 +260,6 @@ pub struct CropConfig {
     pub z_min: Span,
     /// Top face.
     pub z_max: Span,
-}
-
-impl Default for CropConfig {
-    /// SynMotor's box (facts §2.2) at 0.2 m per Blensor unit: about 32 × 17 × 14 cm.
-    fn default() -> CropConfig {
-        let s = Span::new;
-        CropConfig {
-            x_min: s(-0.20, -0.14),
-            x_max: s(0.14, 0.18),
-            y_min: s(-0.095, -0.075),
-            y_max: s(0.065, 0.09),
-            z_min: s(-0.09, -0.064),
-            z_max: s(0.06, 0.08),
-        }
-    }
 }
 
 /// One augmentation level.
@@ -371,7 +280,7 @@ pub struct LevelConfig {
 
 /// `[augment]`: the original datasets' three levels and the validation split.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct AugmentConfig {
     /// Share of each level's samples in the validation split.
     pub validation: f32,
@@ -383,27 +292,9 @@ pub struct AugmentConfig {
     pub noisy: LevelConfig,
 }
 
-impl Default for AugmentConfig {
-    fn default() -> AugmentConfig {
-        let level = |share, occluders, noise_scale, jitter| LevelConfig {
-            share,
-            occluders,
-            fixture_shift: occluders,
-            noise_scale,
-            jitter,
-        };
-        AugmentConfig {
-            validation: 0.2,
-            clean: level(0.2, false, Span::new(0.5, 1.0), [0.0; 3]),
-            occluded: level(0.2, true, Span::new(0.5, 1.0), [0.0; 3]),
-            noisy: level(0.6, true, Span::new(1.0, 2.0), [2e-4, 2e-4, 5e-4]),
-        }
-    }
-}
-
 /// `[output]`: what each sample writes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct OutputConfig {
     /// Formats of the cropped cloud.
     pub formats: Vec<CloudFormat>,
@@ -419,20 +310,6 @@ pub struct OutputConfig {
     pub scene_cloud: bool,
     /// Also write depth, normal, label, instance and intensity images.
     pub images: bool,
-}
-
-impl Default for OutputConfig {
-    fn default() -> OutputConfig {
-        OutputConfig {
-            formats: vec![CloudFormat::Ply, CloudFormat::Npy],
-            frame: Frame::Camera,
-            units: Units::Metres,
-            scheme: Scheme::SynMotor,
-            clean: false,
-            scene_cloud: false,
-            images: false,
-        }
-    }
 }
 
 /// One swept key and its values.
@@ -451,6 +328,11 @@ pub struct Sweep {
 
 impl Sweep {
     /// The values of the sweep, checked.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] unless exactly one of `list`, `linspace` and `grid`
+    /// is given, non-empty and finite.
     pub fn values(&self) -> Result<Vec<toml::Value>> {
         let key = format!("sweep {}", self.key);
         let values = match (&self.list, self.linspace, self.grid) {
@@ -489,7 +371,7 @@ impl Sweep {
 
 /// A whole dataset configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(deny_unknown_fields)]
 pub struct Config {
     /// Global seed.
     pub seed: u64,
@@ -511,28 +393,17 @@ pub struct Config {
     pub output: OutputConfig,
     /// Parameter sweep: every combination of the listed keys' values (sample i takes
     /// combination i mod count).
+    #[serde(default)]
     pub sweep: Vec<Sweep>,
-}
-
-impl Default for Config {
-    fn default() -> Config {
-        Config {
-            seed: 0,
-            samples: 100,
-            motor: MotorConfig::default(),
-            cell: CellConfig::default(),
-            camera: CameraConfig::default(),
-            sensor: SensorConfig::default(),
-            crop: CropConfig::default(),
-            augment: AugmentConfig::default(),
-            output: OutputConfig::default(),
-            sweep: Vec::new(),
-        }
-    }
 }
 
 /// Sets the dotted `key` (e.g. `camera.distance`) of `table` to `value`, creating tables on the
 /// way.
+///
+/// # Errors
+///
+/// [`Error::Config`] when `key` is not a dotted key or passes through a value
+/// that is not a table.
 pub fn set_key(table: &mut toml::Table, key: &str, value: toml::Value) -> Result<()> {
     let mut parts: Vec<&str> = key.split('.').collect();
     let last = parts.pop().filter(|s| !s.is_empty());
@@ -574,8 +445,52 @@ pub fn parse_value(text: &str) -> toml::Value {
         .unwrap_or_else(|| toml::Value::String(text.to_string()))
 }
 
+/// The configurations shipped in `configs/` and built into the library: `(name, TOML)`, the
+/// default first. Every other configuration is laid over the default with [`overlay`].
+pub const BUILTIN: [(&str, &str); 6] = [
+    ("default", crate::DEFAULT_CONFIG),
+    ("synmotor", include_str!("../configs/synmotor.toml")),
+    ("zivid", include_str!("../configs/zivid.toml")),
+    ("registration", include_str!("../configs/registration.toml")),
+    (
+        "sweep-pole-pot",
+        include_str!("../configs/sweep-pole-pot.toml"),
+    ),
+    ("sweep-noise", include_str!("../configs/sweep-noise.toml")),
+];
+
+/// The default configuration as a TOML table, every key present: the base that configurations
+/// are laid over.
+pub fn default_table() -> toml::Table {
+    toml::from_str(crate::DEFAULT_CONFIG).expect("configs/default.toml is valid TOML")
+}
+
+/// The built-in configuration `name` laid over the default, as a table to which overrides can
+/// still be applied; `None` for a name not in [`BUILTIN`].
+pub fn builtin_table(name: &str) -> Option<toml::Table> {
+    let (_, text) = BUILTIN.iter().find(|(n, _)| *n == name)?;
+    let mut table = default_table();
+    overlay(
+        &mut table,
+        toml::from_str(text).expect("the built-in configurations are valid TOML"),
+    );
+    Some(table)
+}
+
+impl Default for Config {
+    /// The default configuration, `configs/default.toml`.
+    fn default() -> Config {
+        Config::from_table(&default_table()).expect("configs/default.toml is a valid configuration")
+    }
+}
+
 impl Config {
     /// Reads a configuration from a TOML table, reporting the dotted path of any bad key.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] naming the dotted key of an unknown or missing key,
+    /// a value of the wrong type, or a value [`Config::check`] refuses.
     pub fn from_table(table: &toml::Table) -> Result<Config> {
         let config: Config = serde_path_to_error::deserialize(toml::Value::Table(table.clone()))
             .map_err(|e| {
@@ -595,6 +510,11 @@ impl Config {
 
     /// The motor parameter space of each variant, in `motor.variants` order (one space, the
     /// parameters' own, when no variants are listed).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when `motor.params` holds an unknown parameter or a
+    /// distribution that does not fit, alone or with a variant's type and extension.
     pub fn param_spaces(&self) -> Result<Vec<ParamSpace>> {
         let base = ParamSpace::from_toml(&self.motor.params)
             .map_err(|e| Error::Config(format!("motor.params: {e}")))?;
@@ -617,6 +537,11 @@ impl Config {
     }
 
     /// Checks every value against what it allows.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] naming the first value that is not allowed, with
+    /// what is.
     pub fn check(&self) -> Result<()> {
         let m = &self.motor;
         self.param_spaces()?;

@@ -35,6 +35,10 @@ impl Shard {
     pub const ALL: Shard = Shard { part: 0, count: 1 };
 
     /// Parses `I/N`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] unless `text` is `I/N` with `0 <= I < N`.
     pub fn parse(text: &str) -> Result<Shard> {
         let bad = || Error::invalid("--shard", text, "I/N with 0 <= I < N, e.g. 0/4");
         let (i, n) = text.split_once('/').ok_or_else(bad)?;
@@ -80,6 +84,24 @@ pub struct Row {
 }
 
 /// A resolved dataset: its recipes (one per sweep combination), size and output folder.
+///
+/// # Example
+///
+/// ```
+/// use scene::{Dataset, Shard};
+///
+/// // 4 samples of the default configuration, written as `motorfactory generate` writes them
+/// let out = std::env::temp_dir().join("dataset-doc-example");
+/// # std::fs::remove_dir_all(&out).ok();
+/// let table = scene::config::default_table();
+/// let dataset = Dataset::new(table, Some(4), None, Shard::ALL, &out)?;
+/// let done = dataset.prepare(false)?; // makes the folder, config.toml and labels.json
+/// let summary = dataset.run(done, &|row| println!("{} done", row.json))?;
+/// assert_eq!(summary.made, 4);
+/// let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
+/// assert_eq!(manifest.lines().count(), 4);
+/// # Ok::<(), scene::Error>(())
+/// ```
 pub struct Dataset {
     recipes: Vec<Recipe>,
     /// Number of samples.
@@ -107,6 +129,11 @@ pub struct Summary {
 impl Dataset {
     /// Resolves a configuration table (overrides already applied), checks every sweep
     /// combination, and remembers where it goes. Nothing is written.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] for a value the configuration does not allow (named
+    /// by its dotted key), a sweep that does not apply, or counts that do not fit.
     pub fn new(
         mut table: toml::Table,
         samples: Option<u64>,
@@ -185,6 +212,12 @@ impl Dataset {
     /// Creates the folder and writes `config.toml` and `labels.json`; with `resume`, reads the
     /// rows already done. Refuses a folder holding another dataset, or this one without
     /// `resume`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Output`] when the folder holds another dataset, or holds
+    /// samples and `resume` is false; [`Error::Io`] when the folder or its first
+    /// files cannot be written.
     pub fn prepare(&self, resume: bool) -> Result<Vec<Row>> {
         let out = &self.out;
         let unusable =
@@ -234,6 +267,11 @@ impl Dataset {
     /// Makes every sample of the shard not in `done`, with the current rayon pool; calls
     /// `finished` after each. The manifest gains each row once its files are in place, and is
     /// rewritten sorted by index at the end.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] when a sample's files or the manifest cannot be written; the
+    /// samples finished before it stay in the manifest, so `resume` continues from there.
     pub fn run(&self, done: Vec<Row>, finished: &(dyn Fn(&Row) + Sync)) -> Result<Summary> {
         let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.index).collect();
         let todo: Vec<u64> = (0..self.samples)

@@ -2,7 +2,32 @@
 //! `motorgen` and `sensor`: a motor clamped cover up in a two-jaw fixture on a table, mask panels,
 //! camera rigs, the crop cuboid, the original augmentation levels, and labelled datasets written
 //! deterministically, in parallel, resumably and in shards.
-#![warn(missing_docs)]
+//!
+//! - [`Config`]: a dataset configuration; [`config::default_table`] is `configs/default.toml`,
+//!   which every configuration is laid over ([`overlay`], [`set_key`]), and
+//!   [`config::BUILTIN`] the shipped ones.
+//! - [`Dataset`]: a configuration planned for a folder: [`Dataset::recipe`] of each sample,
+//!   [`Dataset::prepare`] and [`Dataset::run`] to write it.
+//! - [`make`]: one [`Sample`] in memory: the motor, the [`Cell`] it lies in, and per view the
+//!   scan's cropped [`sensor::PointCloud`] with the pose and ground truth.
+//!
+//! # Example
+//!
+//! ```
+//! use scene::{Dataset, Shard, make};
+//!
+//! // sample 3 of the SynMotor configuration, two views, made in memory
+//! let mut table = scene::config::builtin_table("synmotor").unwrap();
+//! scene::set_key(&mut table, "camera.views", 2.into())?;
+//! let dataset = Dataset::new(table, None, None, Shard::ALL, "out/never-written".as_ref())?;
+//! let sample = make(dataset.recipe(3), 3)?;
+//! assert_eq!(sample.views.len(), 2);
+//! let cloud = &sample.views[0].cloud;
+//! assert!(cloud.len() > 1000);
+//! // class 1 is the cover in SynMotor's labels
+//! assert!(cloud.class.contains(&1));
+//! # Ok::<(), scene::Error>(())
+//! ```
 
 pub mod augment;
 pub mod cell;
@@ -22,4 +47,4 @@ pub use error::{Error, Result};
 pub use sample::{Recipe, Sample, make};
 
 /// The default dataset configuration (`configs/default.toml`), built into the binary.
-pub const DEFAULT_CONFIG: &str = include_str!("../../../configs/default.toml");
+pub const DEFAULT_CONFIG: &str = include_str!("../configs/default.toml");

@@ -31,6 +31,10 @@ impl Image {
     }
 
     /// Writes the image as PNG.
+    ///
+    /// # Errors
+    ///
+    /// Any error of writing to `w`.
     pub fn write_png(&self, w: &mut dyn Write) -> std::io::Result<()> {
         let mut encoder = png::Encoder::new(w, self.width, self.height);
         encoder.set_color(png::ColorType::Rgb);

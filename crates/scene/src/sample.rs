@@ -6,7 +6,7 @@ use motorgen::kernel::Aabb;
 use motorgen::{Motor, ParamSpace, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use sensor::{Pixel, PointCloud, Region, Scan, Scene, SensorSpec, scan_reusing};
+use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 use serde_json::json;
 
 use crate::augment::{Level, Split, assign};
@@ -49,6 +49,11 @@ pub struct Recipe {
 
 impl Recipe {
     /// Checks `config` and prepares its parameter spaces and sensor.
+    ///
+    /// # Errors
+    ///
+    /// The errors of [`Config::check`](crate::Config::check), and
+    /// [`Error::Config`](crate::Error::Config) for a sensor that does not resolve.
     pub fn new(config: Config, sweep: Vec<(String, toml::Value)>) -> Result<Recipe> {
         config.check()?;
         let spaces = config.param_spaces()?;
@@ -128,7 +133,27 @@ fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
     }
 }
 
-/// Makes sample `index` of `recipe`.
+/// Makes sample `index` of `recipe`: the bytes `motorfactory generate` writes for it come from
+/// this sample.
+///
+/// # Example
+///
+/// ```
+/// use scene::{Config, Recipe, make};
+///
+/// let recipe = Recipe::new(Config::default(), Vec::new())?;
+/// let sample = make(&recipe, 12)?;
+/// let view = &sample.views[0];
+/// // a function of the configuration and the index alone
+/// assert_eq!(view.cloud, make(&recipe, 12)?.views[0].cloud);
+/// println!("{:?} {:?}: {} points", sample.level, sample.split, view.cloud.len());
+/// # Ok::<(), scene::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample do not
+/// form a valid motor.
 pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let config = &recipe.config;
     let seed = derive_seed(config.seed, index);
@@ -175,7 +200,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     axial.per_metre *= noise_scale;
     axial.per_metre2 *= noise_scale;
 
-    let scene = Scene::new(&cell.targets(config.output.scheme));
+    let world = World::new(&cell.targets(config.output.scheme));
     let out = &config.output;
     let whole = out.scene_cloud || out.images;
     let views = poses
@@ -197,7 +222,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
                 }
             });
             let buffer = PIXELS.take();
-            let s = scan_reusing(&scene, &sensor, &pose, noise_seed, region.as_ref(), buffer);
+            let s = scan_reusing(&world, &sensor, &pose, noise_seed, region.as_ref(), buffer);
             let mut jitter = rng(seed, stream::JITTER + v as u64);
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
             let to_frame = out.frame.from_camera(&pose);

@@ -6,38 +6,48 @@ use motorgen::{Detail, ParamSpace, PartKind, Scheme, build, derive_seed};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use scene::augment::{Level, Split, assign};
-use scene::config::{CameraConfig, CellConfig, Config, Rig};
+use scene::config::{BUILTIN, CameraConfig, Config, Rig, default_table};
 use scene::rig::camera_poses;
 use scene::{Variation, compose};
 
-fn default_table() -> toml::Table {
-    toml::from_str(scene::DEFAULT_CONFIG).unwrap()
-}
-
 #[test]
-fn the_default_config_file_is_the_default_config() {
+fn every_builtin_config_is_valid_over_the_default_and_shipped_in_configs() {
+    // the default states every key: it reads without any other default to fall back on
+    let default = default_table();
+    assert_eq!(Config::from_table(&default).unwrap(), Config::default());
+    let names: Vec<&str> = BUILTIN.iter().map(|(name, _)| *name).collect();
+    let mut shipped: Vec<String> = std::fs::read_dir("configs")
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter_map(|f| f.strip_suffix(".toml").map(str::to_string))
+        .filter(|f| f != "motors")
+        .collect();
+    shipped.sort();
+    let mut sorted = names.clone();
+    sorted.sort();
     assert_eq!(
-        Config::from_table(&default_table()).unwrap(),
-        Config::default()
+        sorted, shipped,
+        "BUILTIN lists every dataset config in configs/"
     );
-    // every shipped config is valid on top of it
-    for name in [
-        "synmotor",
-        "zivid",
-        "registration",
-        "sweep-pole-pot",
-        "sweep-noise",
-    ] {
-        let text = std::fs::read_to_string(format!("../../configs/{name}.toml")).unwrap();
+    for (name, text) in BUILTIN {
+        assert_eq!(
+            std::fs::read_to_string(format!("configs/{name}.toml")).unwrap(),
+            text
+        );
         let mut t = default_table();
-        scene::overlay(&mut t, toml::from_str(&text).unwrap());
+        scene::overlay(&mut t, toml::from_str(text).unwrap());
         Config::from_table(&t).unwrap_or_else(|e| panic!("{name}: {e}"));
     }
+    // a key missing from the base is an error, not a silent default
+    let mut partial = default_table();
+    partial["camera"].as_table_mut().unwrap().remove("distance");
+    let e = Config::from_table(&partial).unwrap_err().to_string();
+    assert!(e.contains("camera") && e.contains("distance"), "{e}");
 }
 
 #[test]
 fn motors_lie_cover_up_in_closed_fixtures_for_many_seeds() {
-    let config = CellConfig::default();
+    let config = Config::default().cell;
     for seed in 0..40 {
         let params = ParamSpace::addon().sample(derive_seed(7, seed)).unwrap();
         let motor = build(&params, Detail::Coarse);
@@ -120,7 +130,7 @@ fn motors_lie_cover_up_in_closed_fixtures_for_many_seeds() {
 fn cap_cameras_look_at_the_motor_from_the_configured_cap() {
     let config = CameraConfig {
         views: 3,
-        ..CameraConfig::default()
+        ..Config::default().camera
     };
     let centre = Vec3::new(0.01, -0.02, 0.06);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
@@ -143,7 +153,7 @@ fn cap_cameras_look_at_the_motor_from_the_configured_cap() {
     let fixed = CameraConfig {
         rig: Rig::Fixed,
         look_at: [0.0, 0.0, 0.5, 0.0, 0.0, 0.0],
-        ..CameraConfig::default()
+        ..Config::default().camera
     };
     let pose = camera_poses(&fixed, centre, 0, &mut rng)[0];
     assert!((Vec3::from(pose.translation) - (centre + Vec3::new(0.0, 0.0, 0.5))).length() < 1e-6);

@@ -1,5 +1,5 @@
 //! Ray-caster throughput (single rays and packets of 4×4 rays) and a full Zivid 2+ frame, on the
-//! scene of `bench/raycast_peers.py`: a tessellated sphere resting on a plane, about 200k and 2M
+//! world of `bench/raycast_peers.py`: a tessellated sphere resting on a plane, about 200k and 2M
 //! triangles, seen from 1 m above by a 1944 x 1200 pinhole camera, on all threads. (`bench/raycast_peers.py` times Open3D on the
 //! same rays.)
 
@@ -8,7 +8,7 @@ use std::hint::black_box;
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
-use sensor::{Bvh, Material, Scene, SensorSpec, Target, look_at, scan, scan_reusing};
+use sensor::{Bvh, Material, SensorSpec, Target, World, look_at, scan, scan_reusing};
 
 /// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about 4n² triangles.
 fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
@@ -105,10 +105,10 @@ fn raycast(c: &mut Criterion) {
 }
 
 /// A full Zivid 2+ M130 frame (2448 x 2048 camera rays, a projector ray per hit, every noise
-/// model of the preset, the organized scan in memory) of the 200k-triangle scene from 1.3 m.
+/// model of the preset, the organized scan in memory) of the 200k-triangle world from 1.3 m.
 fn zivid_frame(c: &mut Criterion) {
     let tris = sphere_on_plane(200_000);
-    let scene = Scene::new(&[Target::from_triangles(&tris, 1, 1, Material::default())]);
+    let world = World::new(&[Target::from_triangles(&tris, 1, 1, Material::default())]);
     let sensor = SensorSpec::preset("zivid-2plus-m130").unwrap();
     let pose: Affine3A = look_at(
         Vec3::new(0.1, -0.2, 1.28),
@@ -124,7 +124,7 @@ fn zivid_frame(c: &mut Criterion) {
     g.bench_function("zivid_2plus_m130_frame_200k_triangles", |b| {
         b.iter_batched(
             || (),
-            |()| scan(&scene, &sensor, &pose, 1),
+            |()| scan(&world, &sensor, &pose, 1),
             BatchSize::PerIteration,
         )
     });
@@ -132,7 +132,7 @@ fn zivid_frame(c: &mut Criterion) {
     let mut pixels = Vec::new();
     g.bench_function("zivid_2plus_m130_frame_200k_triangles_reused_buffer", |b| {
         b.iter(|| {
-            let frame = scan_reusing(&scene, &sensor, &pose, 1, None, std::mem::take(&mut pixels));
+            let frame = scan_reusing(&world, &sensor, &pose, 1, None, std::mem::take(&mut pixels));
             pixels = black_box(frame).pixels;
         })
     });

@@ -7,7 +7,7 @@ use std::io::Write;
 
 use glam::Vec3;
 use rayon::prelude::*;
-use sensor::{Classes, Material, Scene, Target};
+use sensor::{Classes, Material, Target, World};
 
 fn read<T: npyz::Deserialize>(path: &str) -> (Vec<u64>, Vec<T>) {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{path}: {e}"));
@@ -34,7 +34,7 @@ fn main() {
         .build()
         .unwrap();
     let start = std::time::Instant::now();
-    let scene = pool.install(|| Scene::new(std::slice::from_ref(&target)));
+    let world = pool.install(|| World::new(std::slice::from_ref(&target)));
     let build = start.elapsed().as_secs_f64();
     let rays: Vec<(Vec3, Vec3)> = r
         .chunks_exact(6)
@@ -66,7 +66,7 @@ fn main() {
                                     ray(4 * g + l).map_or(0.0, |_| f32::INFINITY)
                                 })
                             });
-                            let hits = scene.cast_packet(rs[0].0, &dirs, &t_max);
+                            let hits = world.cast_packet(rs[0].0, &dirs, &t_max);
                             for (slot, h) in slots.iter_mut().zip(hits.iter().flatten()) {
                                 *slot = match h {
                                     Some(h) => {
@@ -79,7 +79,7 @@ fn main() {
                         return;
                     }
                     for (slot, (origin, dir)) in o.iter_mut().zip(rs) {
-                        *slot = match scene.cast(*origin, *dir, f32::INFINITY) {
+                        *slot = match world.cast(*origin, *dir, f32::INFINITY) {
                             Some(h) => [h.t, h.triangle as f32, h.normal.x, h.normal.y, h.normal.z],
                             None => [f32::INFINITY, -1.0, 0.0, 0.0, 0.0],
                         };

@@ -101,6 +101,12 @@ impl Intrinsics {
 
     /// Checks that the camera can exist: a non-empty image, positive finite focal lengths, the
     /// principal point on the image, finite distortion that keeps the image one-to-one.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] for a size of zero or above 16384, a focal length
+    /// that is not positive and finite, a principal point outside the image, or distortion that
+    /// does not map the image one to one.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |what: &str, value: String, allowed: &str| {
             Err(Error::Invalid {

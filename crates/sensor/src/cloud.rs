@@ -13,7 +13,7 @@ pub enum Frame {
     /// OpenCV / Zivid camera frame: x right, y down, z forward.
     #[default]
     Camera,
-    /// The scene's world frame.
+    /// The frame of the scanned meshes.
     World,
     /// Blender / Blensor camera frame: x right, y up, z backward (the original datasets' frame).
     Blensor,

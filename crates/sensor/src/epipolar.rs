@@ -1,7 +1,7 @@
 //! Scanning in epipolar planes. With a pinhole camera, every centre ray of pixel row r lies in
 //! the plane through the camera's x axis and that row; so does the shadow ray from a projector
 //! on that axis (where every [`crate::Projector`] sits) to any point on those rays. Cut by the
-//! row's plane, the scene's triangles become segments, and both questions become questions in
+//! row's plane, the world's triangles become segments, and both questions become questions in
 //! two dimensions: which segment each pixel's ray meets first (a one-dimensional depth buffer
 //! over the row's columns, as a rasteriser's), and whether a shadow ray crosses a segment before
 //! its end (a test against the few segments binned at its angle from the projector). No tree is
@@ -26,7 +26,7 @@ const BIN_PX: f64 = 2.0;
 /// Bins of one row at most (a guard against rays at extreme angles).
 const MAX_BINS: usize = 1 << 16;
 
-/// A scene prepared to be cut row by row: the triangles in the camera frame, grouped by the
+/// A world prepared to be cut row by row: the triangles in the camera frame, grouped by the
 /// bands of rows whose planes they may cross.
 pub(crate) struct Epipolar {
     /// Every triangle (by BVH slot) in the camera frame.
@@ -458,7 +458,7 @@ mod tests {
 
     use super::*;
     use crate::scan::gap;
-    use crate::{Material, Projector, Scene, Target, look_at};
+    use crate::{Material, Projector, Target, World, look_at};
 
     /// For every pixel whose centre ray meets a surface: whether the projector's ray to that
     /// point is blocked, by the cut and by the caster's shadow ray. Returns the pixels tested,
@@ -469,7 +469,7 @@ mod tests {
         pose: &Affine3A,
         baseline: f32,
     ) -> (usize, usize, Vec<String>) {
-        let scene = Scene::new(&[Target::from_triangles(tris, 1, 1, Material::default())]);
+        let world = World::new(&[Target::from_triangles(tris, 1, 1, Material::default())]);
         let projector = Projector {
             baseline,
             convergence: 1.0,
@@ -477,7 +477,7 @@ mod tests {
             vfov_deg: 90.0,
         };
         let (w, h) = (k.width as usize, k.height as usize);
-        let epipolar = scene.epipolar(k, pose, baseline, 0..h, 4, 50.0);
+        let epipolar = world.epipolar(k, pose, baseline, 0..h, 4, 50.0);
         let origin = Vec3::from(pose.translation);
         let light = pose.transform_point3(projector.centre());
         let mut row_cut = RowCut::default();
@@ -486,7 +486,7 @@ mod tests {
             let mut rays = Vec::new();
             for c in 0..w {
                 let centre = k.ray(c as f64, r as f64);
-                if let Some(hit) = scene.cast(origin, pose.transform_vector3(centre), 50.0) {
+                if let Some(hit) = world.cast(origin, pose.transform_vector3(centre), 50.0) {
                     let point = centre * hit.t;
                     let distance = (point - projector.centre()).length();
                     rays.push((c, point, distance, hit.normal));
@@ -500,8 +500,8 @@ mod tests {
             let cut = epipolar.shadows(&mut row_cut, ends.iter().copied());
             for (&(c, point, distance, normal), &ray) in rays.iter().zip(&ends) {
                 let dir = pose.transform_vector3((point - projector.centre()) / distance);
-                let caster = scene.occluded(light, dir, distance - gap(distance));
-                let occluded = |d: Vec3| scene.occluded(light, d, distance - gap(distance));
+                let caster = world.occluded(light, dir, distance - gap(distance));
+                let occluded = |d: Vec3| world.occluded(light, d, distance - gap(distance));
                 // a ray along its own surface (within 0.6°) crosses it anywhere near its end
                 let along = normal.dot(dir).abs() < 1e-2;
                 if cut.block(ray) != caster && !along && !grazing(dir, pose, occluded) {
@@ -517,9 +517,9 @@ mod tests {
     /// Every pixel's first hit through the cut against the caster's: (pixels hit, pixels that
     /// differ by more than a tie within rounding or a ray grazing a silhouette).
     fn compare_hits(tris: &[[Vec3; 3]], k: &Intrinsics, pose: &Affine3A) -> (usize, Vec<String>) {
-        let scene = Scene::new(&[Target::from_triangles(tris, 1, 1, Material::default())]);
+        let world = World::new(&[Target::from_triangles(tris, 1, 1, Material::default())]);
         let (w, h) = (k.width as usize, k.height as usize);
-        let epipolar = scene.epipolar(k, pose, 0.0, 0..h, 4, 50.0);
+        let epipolar = world.epipolar(k, pose, 0.0, 0..h, 4, 50.0);
         let origin = Vec3::from(pose.translation);
         let (mut row_cut, mut got) = (RowCut::default(), Vec::new());
         let (mut hits, mut differ) = (0, Vec::new());
@@ -528,8 +528,8 @@ mod tests {
             epipolar.first_hits(&mut row_cut, &(0..w), &mut got);
             for (c, got) in got.iter().enumerate() {
                 let dir = pose.transform_vector3(k.ray(c as f64, r as f64));
-                let want = scene.cast(origin, dir, 50.0);
-                let got = got.map(|(slot, t)| scene.describe_slot(slot, t, dir));
+                let want = world.cast(origin, dir, 50.0);
+                let got = got.map(|(slot, t)| world.describe_slot(slot, t, dir));
                 hits += usize::from(want.is_some());
                 let same = match (want, got) {
                     (None, None) => true,
@@ -543,7 +543,7 @@ mod tests {
                 };
                 if !same
                     && !grazing(dir, pose, |d| {
-                        scene.cast(origin, d, 50.0).map(|h| h.triangle)
+                        world.cast(origin, d, 50.0).map(|h| h.triangle)
                     })
                 {
                     differ.push(format!("pixel ({c}, {r}): caster {want:?}, cut {got:?}"));

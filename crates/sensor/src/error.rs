@@ -14,6 +14,6 @@ pub enum Error {
         allowed: String,
     },
     /// A preset name that does not exist.
-    #[error("unknown sensor preset \"{0}\": expected one of {presets}", presets = crate::sensor::PRESETS.join(", "))]
+    #[error("unknown sensor preset \"{0}\": expected one of {presets}", presets = crate::spec::PRESETS.join(", "))]
     UnknownPreset(String),
 }

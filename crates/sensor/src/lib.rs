@@ -1,7 +1,42 @@
 //! Simulated depth sensors on a BVH ray caster built on parry: structured-light cameras with
 //! projector shadows, time-of-flight and Kinect-style sensors, and ideal depth, with composable
 //! noise models and labelled outputs. Scene-agnostic: it scans any labelled triangle meshes.
-#![warn(missing_docs)]
+//!
+//! - [`Target`]: a triangle mesh with a class (per mesh or per triangle), an instance and a
+//!   [`Material`]; a [`World`] holds the targets in one BVH.
+//! - [`SensorSpec`]: camera [`Intrinsics`], sensor [`Model`], [`Noise`] and working range;
+//!   [`SensorSpec::preset`] gives the Zivid, Blensor, Kinect and ideal presets.
+//! - [`scan()`] (and [`scan_within`] a region, [`scan_reusing`] a buffer): one organized
+//!   [`Scan`] of [`Pixel`]s in the camera frame, the same bytes for any thread count.
+//! - [`Scan::cloud`]: the valid points as a [`PointCloud`] in a [`Frame`] and [`Units`];
+//!   [`formats`] writes clouds (PLY, PCD, NPY, NPZ) and images (PNG, NPY).
+//!
+//! # Example
+//!
+//! ```
+//! use glam::Vec3;
+//! use sensor::{Frame, Material, SensorSpec, Target, Units, World, look_at, scan};
+//!
+//! // a user's mesh: a 1 m square, class 3, instance 1, facing a camera 1 m above it
+//! let corners = [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]];
+//! let target = Target {
+//!     positions: corners.iter().map(|&[x, y]| Vec3::new(x, y, 0.0)).collect(),
+//!     triangles: vec![[0, 1, 2], [0, 2, 3]],
+//!     classes: sensor::Classes::Uniform(3),
+//!     instance: 1,
+//!     material: Material::default(),
+//! };
+//! let world = World::new(&[target]);
+//! let mut zivid = SensorSpec::preset("zivid-2plus-m130")?;
+//! zivid.intrinsics = zivid.intrinsics.binned(4);
+//! zivid.min_range = 0.5; // the preset's working range starts at 0.8 m
+//! let pose = look_at(Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, Vec3::Y).unwrap();
+//! let cloud = scan(&world, &zivid, &pose, 0).cloud(false, Frame::World, Units::Metres);
+//! assert!(cloud.len() > 10_000);
+//! assert!(cloud.class.iter().all(|&c| c == 3));
+//! assert!(cloud.xyz.iter().all(|p| p.z.abs() < 0.005)); // on the square, within the noise
+//! # Ok::<(), sensor::Error>(())
+//! ```
 
 pub mod bvh;
 pub mod camera;
@@ -11,8 +46,8 @@ mod error;
 pub mod formats;
 pub mod noise;
 pub mod scan;
-pub mod scene;
-pub mod sensor;
+pub mod spec;
+pub mod world;
 
 pub use bvh::{Bvh, Hit};
 pub use camera::{Distortion, Intrinsics, look_at};
@@ -20,5 +55,5 @@ pub use cloud::{Frame, PointCloud, Units};
 pub use error::Error;
 pub use noise::Noise;
 pub use scan::{Pixel, Region, Scan, scan, scan_reusing, scan_within};
-pub use scene::{Classes, Material, Scene, Target};
-pub use sensor::{Model, PRESETS, Projector, SensorSpec};
+pub use spec::{Model, PRESETS, Projector, SensorSpec};
+pub use world::{Classes, Material, Target, World};

@@ -272,6 +272,11 @@ pub struct Bias {
 
 impl Noise {
     /// Checks that every setting is finite, non-negative, and a probability where it is one.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`](crate::Error::Invalid) naming the first noise parameter that is negative,
+    /// not finite or out of its range.
     pub fn validate(&self) -> Result<(), crate::Error> {
         let amounts = [
             ("axial.sigma", self.axial.sigma),

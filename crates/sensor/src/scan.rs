@@ -9,8 +9,8 @@ use crate::bvh::lanes;
 use crate::camera::Intrinsics;
 use crate::epipolar::{Epipolar, NEAR, Ray, RowCut};
 use crate::noise::{PixelRng, stream};
-use crate::scene::{Scene, SurfaceHit};
-use crate::sensor::{Frustum, Model, SensorSpec};
+use crate::spec::{Frustum, Model, SensorSpec};
+use crate::world::{SurfaceHit, World};
 
 /// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -126,10 +126,29 @@ impl Region {
     }
 }
 
-/// Scans `scene` with `sensor` from the camera-to-world `pose`. Every random draw is keyed by
+/// Scans `world` with `sensor` from the camera-to-world `pose`. Every random draw is keyed by
 /// (seed, pixel), so the result is the same for any number of threads.
-pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> Scan {
-    scan_pixels(scene, sensor, pose, seed, None, Vec::new())
+///
+/// # Example
+///
+/// ```
+/// use glam::Vec3;
+/// use sensor::{Material, SensorSpec, Target, World, look_at, scan};
+///
+/// // a triangle soup (as an STL holds it): one big triangle 2 m in front of the camera
+/// let tri = [[Vec3::new(-2.0, -2.0, 0.0), Vec3::new(2.0, -2.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]];
+/// let world = World::new(&[Target::from_triangles(&tri, 1, 7, Material::default())]);
+/// let mut tof = SensorSpec::preset("blensor-tof")?;
+/// tof.noise = Default::default(); // exact depth, to check it
+/// let pose = look_at(Vec3::new(0.0, 0.0, 1.5), Vec3::ZERO, Vec3::Y).unwrap();
+/// let s = scan(&world, &tof, &pose, 0);
+/// let centre = &s.pixels[s.pixels.len() / 2 + tof.intrinsics.width as usize / 2];
+/// assert!((centre.point.z - 1.5).abs() < 1e-4); // camera z, metres
+/// assert_eq!(centre.instance, 7);
+/// # Ok::<(), sensor::Error>(())
+/// ```
+pub fn scan(world: &World, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> Scan {
+    scan_pixels(world, sensor, pose, seed, None, Vec::new())
 }
 
 /// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast
@@ -139,31 +158,31 @@ pub fn scan(scene: &Scene, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
 /// pixels, the Kinect window) and lateral jitter reach [`SensorSpec::reach_px`] pixels beyond
 /// it, so callers crop to a box smaller by that many pixel footprints.
 pub fn scan_within(
-    scene: &Scene,
+    world: &World,
     sensor: &SensorSpec,
     pose: &Affine3A,
     seed: u64,
     region: &Region,
 ) -> Scan {
-    scan_pixels(scene, sensor, pose, seed, Some(region), Vec::new())
+    scan_pixels(world, sensor, pose, seed, Some(region), Vec::new())
 }
 
 /// [`scan`], or [`scan_within`] a region, into the allocation of `buffer` (the pixels of an
 /// earlier scan): a caller scanning frame after frame spares the mapping and page faults of a
 /// fresh megapixel buffer each time. The result is the same whatever the buffer held.
 pub fn scan_reusing(
-    scene: &Scene,
+    world: &World,
     sensor: &SensorSpec,
     pose: &Affine3A,
     seed: u64,
     region: Option<&Region>,
     buffer: Vec<Pixel>,
 ) -> Scan {
-    scan_pixels(scene, sensor, pose, seed, region, buffer)
+    scan_pixels(world, sensor, pose, seed, region, buffer)
 }
 
 fn scan_pixels(
-    scene: &Scene,
+    world: &World,
     sensor: &SensorSpec,
     pose: &Affine3A,
     seed: u64,
@@ -195,15 +214,15 @@ fn scan_pixels(
         0,
         k.height as usize,
     ]);
-    // the pixels the bands below may cast, and, for a pinhole camera, the scene prepared to be
+    // the pixels the bands below may cast, and, for a pinhole camera, the world prepared to be
     // cut in their rows' planes: cutting a triangle costs a fraction of a ray's walk, so only a
     // few pixels on a large mesh are cast ray by ray
     let cols = c0 - c0 % BLOCK..(c1.div_ceil(BLOCK) * BLOCK).min(width);
     let rows = r0 - r0 % BLOCK..(r1.div_ceil(BLOCK) * BLOCK).min(k.height as usize);
-    let cut = k.distortion.is_none() && 3 * cols.len() * rows.len() >= scene.triangle_count();
+    let cut = k.distortion.is_none() && 3 * cols.len() * rows.len() >= world.triangle_count();
     let baseline = sensor.projector().map_or(0.0, |p| p.baseline);
     let setup = Setup {
-        scene,
+        world,
         sensor,
         projector: sensor.projector().map(|p| (p.frustum(), p.centre())),
         to_camera: pose.matrix3.transpose(),
@@ -214,7 +233,7 @@ fn scan_pixels(
         region_in_camera: region.map(|reg| reg.corners_in(pose)),
         seed,
         bias,
-        epipolar: cut.then(|| scene.epipolar(k, pose, baseline, rows, BLOCK, sensor.max_range)),
+        epipolar: cut.then(|| world.epipolar(k, pose, baseline, rows, BLOCK, sensor.max_range)),
     };
     pixels
         .par_chunks_mut(BLOCK * width)
@@ -269,7 +288,7 @@ fn scan_pixels(
 fn advise_huge_pages<T>(v: &mut Vec<T>) {
     const HUGE: usize = 2 << 20;
     let spare = v.spare_capacity_mut();
-    let (start, len) = (spare.as_mut_ptr() as usize, std::mem::size_of_val(spare));
+    let (start, len) = (spare.as_mut_ptr() as usize, size_of_val(spare));
     let (from, to) = (start.next_multiple_of(HUGE), (start + len) / HUGE * HUGE);
     if to > from {
         // SAFETY: advice on memory the vector owns and has not yet written; the kernel may
@@ -283,7 +302,7 @@ fn advise_huge_pages<T>(_: &mut Vec<T>) {}
 
 /// What every pixel of one scan shares.
 struct Setup<'a> {
-    scene: &'a Scene,
+    world: &'a World,
     sensor: &'a SensorSpec,
     /// The projector's frustum and centre (camera frame), for sensors that have one.
     projector: Option<(Frustum, Vec3)>,
@@ -301,7 +320,7 @@ struct Setup<'a> {
     seed: u64,
     /// Per-scan range scale and offset.
     bias: (f32, f32),
-    /// The scene prepared to be cut in the rows' epipolar planes (a pinhole camera).
+    /// The world prepared to be cut in the rows' epipolar planes (a pinhole camera).
     epipolar: Option<Epipolar>,
 }
 
@@ -381,7 +400,7 @@ impl Setup<'_> {
                 let seen = hit.map(|(slot, t)| {
                     let centre = epipolar.centre_ray(cut, c);
                     let dir = self.pose.transform_vector3(centre);
-                    (centre, self.scene.describe_slot(slot, t, dir))
+                    (centre, self.world.describe_slot(slot, t, dir))
                 });
                 *lit = match seen {
                     Some((centre, hit)) => illuminate(self, c, row, centre, hit, &mut line[c]),
@@ -452,7 +471,7 @@ impl Setup<'_> {
             if at.iter().flatten().all(Option::is_none) {
                 continue; // nothing to cast: the pixels stay empty
             }
-            let hits = self.scene.cast_packet(self.origin, &dirs, &t_max);
+            let hits = self.world.cast_packet(self.origin, &dirs, &t_max);
             // the shadow rays, world frame, towards the lit surface points from the projector
             let mut shadow = [[Vec3::Z; 4]; GROUPS];
             let mut length = [[0.0; 4]; GROUPS];
@@ -472,7 +491,7 @@ impl Setup<'_> {
                     lits[r * span + c - cols.start] = lit;
                 }
             }
-            let blocked = self.scene.occluded_packet(from, &shadow, &length);
+            let blocked = self.world.occluded_packet(from, &shadow, &length);
             for (g, lane) in lanes::<GROUPS>() {
                 if blocked[g][lane] {
                     let (c, r) = block_pixel(col, g, lane);

@@ -78,8 +78,8 @@ fn plane_at_known_distance_is_exact_everywhere_even_with_distortion() {
         p2: -0.0005,
     };
     k.validate().unwrap();
-    let scene = Scene::new(&[facing_plane(1.25)]);
-    let s = scan(&scene, &ideal(k), &Affine3A::IDENTITY, 1);
+    let world = World::new(&[facing_plane(1.25)]);
+    let s = scan(&world, &ideal(k), &Affine3A::IDENTITY, 1);
     assert_eq!(s.valid_count(), 320 * 240);
     for (i, p) in s.pixels.iter().enumerate() {
         assert!((p.point.z - 1.25).abs() < 2e-6, "{p:?}");
@@ -105,7 +105,7 @@ fn camera_pose_moves_the_scene_into_the_camera_frame() {
     .unwrap();
     let floor = quad(Vec3::ZERO, Vec3::X * 5.0, Vec3::Y * 5.0, 2, 4);
     let s = scan(
-        &Scene::new(&[floor]),
+        &World::new(&[floor]),
         &ideal(small_camera(64, 48, 60.0)),
         &pose,
         0,
@@ -120,9 +120,9 @@ fn camera_pose_moves_the_scene_into_the_camera_frame() {
 #[test]
 fn sphere_points_lie_on_the_sphere() {
     let c = Vec3::new(0.05, -0.02, 2.0);
-    let scene = Scene::new(&[sphere(c, 0.5, 400)]);
+    let world = World::new(&[sphere(c, 0.5, 400)]);
     let k = small_camera(200, 200, 200.0);
-    let s = scan(&scene, &ideal(k), &Affine3A::IDENTITY, 0);
+    let s = scan(&world, &ideal(k), &Affine3A::IDENTITY, 0);
     let valid: Vec<&Pixel> = s.pixels.iter().filter(|p| p.is_valid()).collect();
     // the visible disc: radius f·r/sqrt(d² - r²) pixels
     let disc = std::f32::consts::PI * (200.0 * 0.5 / (4.0f32 - 0.25).sqrt()).powi(2);
@@ -142,7 +142,7 @@ fn sphere_points_lie_on_the_sphere() {
 #[test]
 fn clouds_hold_the_kept_pixels_in_pixel_order_with_their_labels() {
     // a sphere and a plane with two labels, on more pixels than one run of the cloud's passes
-    let scene = Scene::new(&[
+    let world = World::new(&[
         sphere(Vec3::new(0.05, -0.02, 2.0), 0.5, 100),
         quad(Vec3::new(0.0, 0.0, 3.0), Vec3::X * 5.0, Vec3::Y * 5.0, 2, 9),
     ]);
@@ -157,7 +157,7 @@ fn clouds_hold_the_kept_pixels_in_pixel_order_with_their_labels() {
         ..ideal(small_camera(240, 180, 200.0))
     };
     let pose = Affine3A::from_translation(Vec3::new(0.1, 0.2, -0.3));
-    let s = scan(&scene, &spec, &pose, 4);
+    let s = scan(&world, &spec, &pose, 4);
     let keep = |p: &Pixel| (p.is_valid() && p.point.x > 0.2).then_some(p.point * 2.0);
     let kept: Vec<&Pixel> = s.pixels.iter().filter(|p| keep(p).is_some()).collect();
     assert!(
@@ -192,7 +192,7 @@ fn projector_shadow_band_width_follows_from_the_baseline() {
     let (b, z1, z2) = (0.2f32, 1.0f32, 2.0f32);
     let occluder = quad(Vec3::new(2.0, 0.0, z1), Vec3::X * 2.0, Vec3::Y * 3.0, 2, 2);
     let background = quad(Vec3::new(0.0, 0.0, z2), Vec3::X * 6.0, Vec3::Y * 6.0, 1, 1);
-    let scene = Scene::new(&[occluder, background]);
+    let world = World::new(&[occluder, background]);
     let k = small_camera(801, 101, 400.0);
     let projector = Projector {
         baseline: b,
@@ -205,7 +205,7 @@ fn projector_shadow_band_width_follows_from_the_baseline() {
         model: Model::StructuredLight { projector },
         ..ideal(k)
     };
-    let s = scan(&scene, &sl, &Affine3A::IDENTITY, 0);
+    let s = scan(&world, &sl, &Affine3A::IDENTITY, 0);
     let row = &s.pixels[50 * 801..51 * 801];
     let shadowed: Vec<usize> = (0..801)
         .filter(|&c| row[c].instance == 1 && !row[c].is_valid())
@@ -220,7 +220,7 @@ fn projector_shadow_band_width_follows_from_the_baseline() {
     let edge = (0..801).find(|&c| row[c].instance == 2).unwrap();
     assert_eq!(*shadowed.last().unwrap() + 1, edge);
     // the ideal sensor sees everything there
-    let all = scan(&scene, &ideal(k), &Affine3A::IDENTITY, 0);
+    let all = scan(&world, &ideal(k), &Affine3A::IDENTITY, 0);
     assert_eq!(all.valid_count(), 801 * 101);
     // a lens with (negligible) distortion is cast ray by ray, shadow rays included: the same
     // points, but where the projector's ray grazes the occluder's edge exactly (column 360,
@@ -233,7 +233,7 @@ fn projector_shadow_band_width_follows_from_the_baseline() {
         ..k
     };
     let cast = scan(
-        &scene,
+        &world,
         &SensorSpec {
             intrinsics: lens,
             ..sl
@@ -254,7 +254,7 @@ fn tilted_plane_gives_its_incidence_and_normal() {
     let a = Vec3::Y.cross(n).normalize() * 3.0;
     let plane = quad(Vec3::new(0.0, 0.0, 1.0), a, Vec3::Y * 3.0, 1, 1);
     let s = scan(
-        &Scene::new(&[plane]),
+        &World::new(&[plane]),
         &ideal(small_camera(101, 101, 100.0)),
         &Affine3A::IDENTITY,
         0,
@@ -288,7 +288,7 @@ fn noisy_plane(z: f32, noise: Noise, seed: u64) -> Scan {
         ..ideal(k)
     };
     scan(
-        &Scene::new(&[facing_plane(z)]),
+        &World::new(&[facing_plane(z)]),
         &tof,
         &Affine3A::IDENTITY,
         seed,
@@ -448,7 +448,7 @@ fn same_bytes_for_any_thread_count() {
         noise,
         ..ideal(k)
     };
-    let scene = Scene::new(&[
+    let world = World::new(&[
         sphere(Vec3::new(0.0, 0.0, 1.2), 0.3, 200),
         facing_plane(1.6),
     ]);
@@ -457,7 +457,7 @@ fn same_bytes_for_any_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| scan(&scene, &spec, &Affine3A::IDENTITY, 42))
+        pool.install(|| scan(&world, &spec, &Affine3A::IDENTITY, 42))
     };
     let bits = |s: &Scan| -> Vec<u32> {
         s.pixels
@@ -478,11 +478,11 @@ fn same_bytes_for_any_thread_count() {
     };
     let (one, two) = (run(1), run(2));
     assert_eq!(bits(&one), bits(&two));
-    assert_ne!(bits(&one), bits(&pool_free(&scene, &spec, 43)));
+    assert_ne!(bits(&one), bits(&pool_free(&world, &spec, 43)));
 }
 
-fn pool_free(scene: &Scene, spec: &SensorSpec, seed: u64) -> Scan {
-    scan(scene, spec, &Affine3A::IDENTITY, seed)
+fn pool_free(world: &World, spec: &SensorSpec, seed: u64) -> Scan {
+    scan(world, spec, &Affine3A::IDENTITY, seed)
 }
 
 #[test]
@@ -560,7 +560,7 @@ fn kinect_depth_comes_in_disparity_steps_and_the_window_removes_strays() {
     };
     *disparity_sigma_px = 0.0;
     let s = scan(
-        &Scene::new(&[facing_plane(1.5)]),
+        &World::new(&[facing_plane(1.5)]),
         &spec,
         &Affine3A::IDENTITY,
         0,
@@ -589,7 +589,7 @@ fn kinect_depth_comes_in_disparity_steps_and_the_window_removes_strays() {
         9,
     );
     let s = scan(
-        &Scene::new(&[speck, facing_plane(1.5)]),
+        &World::new(&[speck, facing_plane(1.5)]),
         &spec,
         &Affine3A::IDENTITY,
         0,
@@ -616,7 +616,7 @@ fn shiny_surfaces_saturate_near_the_mirror_direction() {
         noise,
         ..ideal(k)
     };
-    let s = scan(&Scene::new(&[plane]), &tof, &Affine3A::IDENTITY, 2);
+    let s = scan(&World::new(&[plane]), &tof, &Affine3A::IDENTITY, 2);
     // with the light at the camera, the highlight is where the ray meets the plane within 5°
     let (mut inside, mut lost_inside, mut lost_outside) = (0, 0, 0);
     for p in &s.pixels {
@@ -636,7 +636,7 @@ fn shiny_surfaces_saturate_near_the_mirror_direction() {
 #[test]
 fn mixed_pixels_fly_between_the_two_depths_at_edges_only() {
     let near = quad(Vec3::new(0.5, 0.0, 1.0), Vec3::X * 0.5, Vec3::Y * 2.0, 2, 2);
-    let scene = Scene::new(&[near, facing_plane(1.5)]);
+    let world = World::new(&[near, facing_plane(1.5)]);
     let noise = Noise {
         edges: noise::Edges {
             probability: 1.0,
@@ -651,7 +651,7 @@ fn mixed_pixels_fly_between_the_two_depths_at_edges_only() {
         noise,
         ..ideal(k)
     };
-    let s = scan(&scene, &spec, &Affine3A::IDENTITY, 0);
+    let s = scan(&world, &spec, &Affine3A::IDENTITY, 0);
     let mut flying = 0;
     for (i, p) in s.pixels.iter().enumerate() {
         let (r, r0) = (p.point.length(), p.clean.length());
@@ -688,7 +688,7 @@ fn region_scan_keeps_every_point_inside_the_region_and_skips_the_rest() {
         },
         ..ideal(small_camera(240, 180, 200.0))
     };
-    let scene = Scene::new(&[
+    let world = World::new(&[
         sphere(Vec3::new(0.05, 0.0, 1.0), 0.2, 120),
         facing_plane(1.5),
     ]);
@@ -708,8 +708,8 @@ fn region_scan_keeps_every_point_inside_the_region_and_skips_the_rest() {
         let q = p.point;
         q.cmpge(crop.min).all() && q.cmple(crop.max).all()
     };
-    let full = scan(&scene, &spec, &Affine3A::IDENTITY, 5);
-    let part = scan_within(&scene, &spec, &Affine3A::IDENTITY, 5, &region);
+    let full = scan(&world, &spec, &Affine3A::IDENTITY, 5);
+    let part = scan_within(&world, &spec, &Affine3A::IDENTITY, 5, &region);
     let kept = |s: &Scan| -> Vec<Pixel> { s.pixels.iter().copied().filter(inside).collect() };
     assert!(kept(&full).len() > 2000, "{}", kept(&full).len());
     assert_eq!(kept(&full), kept(&part));
@@ -848,7 +848,7 @@ fn region_scans_cast_every_crossing_pixel_and_little_else() {
         1,
         1,
     );
-    let scene = Scene::new(&[floor]);
+    let world = World::new(&[floor]);
     let region = Region {
         min: Vec3::new(-0.12, -0.05, -0.08),
         max: Vec3::new(0.1, 0.07, 0.04),
@@ -857,8 +857,8 @@ fn region_scans_cast_every_crossing_pixel_and_little_else() {
         let a = i as f32 * 0.9;
         let eye = Vec3::new(a.cos() * 0.6, a.sin() * 0.5, 0.3 + 0.1 * (i % 3) as f32);
         let pose = look_at(eye, Vec3::new(0.02 * (i % 5) as f32, 0.0, 0.0), Vec3::Z).unwrap();
-        let full = scan(&scene, &spec, &pose, 1);
-        let part = scan_within(&scene, &spec, &pose, 1, &region);
+        let full = scan(&world, &spec, &pose, 1);
+        let part = scan_within(&world, &spec, &pose, 1, &region);
         let (mut crossing, mut cast) = (0, 0);
         for (p, (whole, within)) in full.pixels.iter().zip(&part.pixels).enumerate() {
             let (c, r) = (p % 160, p / 160);
@@ -927,7 +927,7 @@ fn scans_reusing_a_buffer_equal_fresh_ones() {
         },
         ..ideal(camera)
     };
-    let scene = Scene::new(&[sphere(Vec3::new(0.0, 0.0, 1.0), 0.2, 40), facing_plane(1.5)]);
+    let world = World::new(&[sphere(Vec3::new(0.0, 0.0, 1.0), 0.2, 40), facing_plane(1.5)]);
     let region = Region {
         min: Vec3::new(-0.1, -0.1, 0.7),
         max: Vec3::new(0.1, 0.1, 1.6),
@@ -947,15 +947,15 @@ fn scans_reusing_a_buffer_equal_fresh_ones() {
         .flat_map(|&k| [(k, None), (k, Some(&region))])
     {
         let spec = spec(camera);
-        let fresh = scan_reusing(&scene, &spec, &Affine3A::IDENTITY, 3, region, Vec::new());
-        let reused = scan_reusing(&scene, &spec, &Affine3A::IDENTITY, 3, region, dirty.clone());
+        let fresh = scan_reusing(&world, &spec, &Affine3A::IDENTITY, 3, region, Vec::new());
+        let reused = scan_reusing(&world, &spec, &Affine3A::IDENTITY, 3, region, dirty.clone());
         // (compared as text: the empty pixels' NaNs are unequal to themselves)
         let text = |s: &Scan| format!("{s:?}");
         assert!(fresh.valid_count() > 200, "{}", fresh.valid_count());
         assert_eq!(text(&fresh), text(&reused));
         let plain = match region {
-            Some(r) => scan_within(&scene, &spec, &Affine3A::IDENTITY, 3, r),
-            None => scan(&scene, &spec, &Affine3A::IDENTITY, 3),
+            Some(r) => scan_within(&world, &spec, &Affine3A::IDENTITY, 3, r),
+            None => scan(&world, &spec, &Affine3A::IDENTITY, 3),
         };
         assert_eq!(text(&fresh), text(&plain));
     }

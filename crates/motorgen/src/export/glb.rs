@@ -9,6 +9,10 @@ use json::validation::{Checked::Valid, USize64};
 use crate::model::{MATERIALS, Part};
 
 /// Writes parts as a GLB scene with a node named after each part.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when writing to `w` fails.
 pub fn write_glb(w: &mut dyn Write, parts: &[&Part]) -> Result<()> {
     let mut root = json::Root {
         asset: json::Asset {

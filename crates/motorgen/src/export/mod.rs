@@ -53,6 +53,11 @@ impl Format {
     }
 
     /// Parses a format name.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] for a name other than `obj`, `stl`, `ply` or
+    /// `glb`.
     pub fn parse(name: &str) -> Result<Format> {
         Format::ALL
             .into_iter()
@@ -68,6 +73,24 @@ impl Format {
 /// Writes `motor` into `dir`: for each format the whole motor (`motor.<ext>`) and, when
 /// `per_part`, each part (`<part name>.<ext>`); plus `attributes.json`. Every file is written to
 /// a temporary name and renamed, so a crash never leaves half a file. Returns the paths written.
+///
+/// # Example
+///
+/// ```
+/// use motorgen::{Detail, Format, MotorParams, build, export::write_motor};
+///
+/// let motor = build(&MotorParams::default(), Detail::Coarse);
+/// let dir = std::env::temp_dir().join("write-motor-doc-example");
+/// let files = write_motor(&motor, &dir, &[Format::Obj, Format::Ply], true)?;
+/// // the whole motor and every part in each format, the OBJ materials and the ground truth
+/// assert_eq!(files.len(), 2 * (1 + motor.parts.len()) + 2);
+/// # Ok::<(), motorgen::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// [`Error::Io`], naming the path, when the folder cannot be made or a file
+/// cannot be written.
 pub fn write_motor(
     motor: &Motor,
     dir: &Path,
@@ -112,6 +135,11 @@ pub fn write_motor(
 /// Writes a file through a buffered temporary file in the same folder, then renames it: a killed
 /// process leaves the old file or the new one, never a part. (No fsync: that would add
 /// power-loss durability at about thirty times the cost of a motor's files.)
+///
+/// # Errors
+///
+/// [`Error::Io`], naming `path`, when the temporary file cannot be made, `body`
+/// fails, or the rename fails; the temporary file is removed.
 pub fn write_atomic(
     path: &Path,
     body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,

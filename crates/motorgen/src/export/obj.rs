@@ -5,6 +5,10 @@ use std::io::{Result, Write};
 use crate::model::{MATERIALS, Part};
 
 /// Writes parts as one OBJ, an `o` object per part with its material; `mtllib` names the MTL.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when writing to `w` fails.
 pub fn write_obj(w: &mut dyn Write, parts: &[&Part], mtllib: Option<&str>) -> Result<()> {
     writeln!(w, "# motorfactory motor mesh, metres")?;
     if let Some(lib) = mtllib {
@@ -27,6 +31,10 @@ pub fn write_obj(w: &mut dyn Write, parts: &[&Part], mtllib: Option<&str>) -> Re
 
 /// Writes the add-on's materials as an MTL (diffuse colour; metalness and roughness as the PBR
 /// extension keys `Pm` and `Pr`).
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when writing to `w` fails.
 pub fn write_mtl(w: &mut dyn Write) -> Result<()> {
     for m in MATERIALS {
         let [r, g, b, a] = m.base_color;

@@ -10,6 +10,10 @@ use crate::model::Part;
 /// and `instance` (int).
 ///
 /// [`PartKind`]: crate::PartKind
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when writing to `w` fails.
 pub fn write_ply(w: &mut dyn Write, parts: &[&Part]) -> Result<()> {
     let vertices: usize = parts.iter().map(|p| p.mesh.positions.len()).sum();
     let faces: usize = parts.iter().map(|p| p.mesh.triangle_count()).sum();

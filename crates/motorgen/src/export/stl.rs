@@ -5,6 +5,10 @@ use std::io::{Result, Write};
 use crate::model::Part;
 
 /// Writes parts as one binary STL with facet normals.
+///
+/// # Errors
+///
+/// [`Error::Io`](crate::Error::Io) when writing to `w` fails.
 pub fn write_stl(w: &mut dyn Write, parts: &[&Part]) -> Result<()> {
     let mut header = [0u8; 80];
     let title = b"motorfactory motor mesh, metres";

@@ -68,6 +68,22 @@ impl Dims {
 }
 
 /// Builds the motor of `params` at the given tessellation detail.
+///
+/// # Example
+///
+/// ```
+/// use motorgen::{Detail, MotorParams, PartKind, build};
+///
+/// let params = MotorParams::from_values(
+///     &[("type".to_string(), motorgen::params::Value::Text("B".into()))].into(),
+/// )?;
+/// let motor = build(&params, Detail::Coarse);
+/// assert_eq!(motor.attributes.variant, "B1");
+/// // type B has one inner gear, and its centre is exact ground truth
+/// assert_eq!(motor.attributes.gears.len(), 1);
+/// assert!(motor.parts.iter().any(|p| p.kind == PartKind::SingleGear));
+/// # Ok::<(), motorgen::Error>(())
+/// ```
 pub fn build(params: &MotorParams, detail: Detail) -> Motor {
     let t = Tess(detail);
     let d = Dims::new(params);

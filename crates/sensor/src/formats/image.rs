@@ -27,6 +27,10 @@ fn big_endian_16(values: impl Iterator<Item = u16>) -> Vec<u8> {
 
 /// 16-bit grey depth (camera z) in steps of [`DEPTH_PNG_METRES_PER_UNIT`]; `clean` uses the
 /// exact depth instead of the measured one.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_depth_png(w: &mut dyn Write, scan: &Scan, clean: bool) -> Result<()> {
     let data = big_endian_16(scan.pixels.iter().map(|p| {
         let z = if clean { p.clean.z } else { p.point.z };
@@ -46,6 +50,10 @@ pub fn write_depth_png(w: &mut dyn Write, scan: &Scan, clean: bool) -> Result<()
 }
 
 /// 8-bit RGB normals, (n + 1) / 2 · 255 in the camera frame; black where nothing was hit.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_normal_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
     let data: Vec<u8> = scan
         .pixels
@@ -64,6 +72,10 @@ pub fn write_normal_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
 }
 
 /// 16-bit grey labels: the class (or, with `instance`, the instance id) of each pixel's surface.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_label_png(w: &mut dyn Write, scan: &Scan, instance: bool) -> Result<()> {
     let data = big_endian_16(scan.pixels.iter().map(|p| {
         if instance {
@@ -82,6 +94,10 @@ pub fn write_label_png(w: &mut dyn Write, scan: &Scan, instance: bool) -> Result
 }
 
 /// 8-bit grey signal strength, clamped to 0..1; 0 where no point.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_intensity_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
     let data: Vec<u8> = scan
         .pixels

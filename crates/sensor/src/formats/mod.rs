@@ -72,6 +72,10 @@ impl CloudFormat {
     }
 
     /// Writes `cloud`; `palette` gives the class colours of the NPY layout.
+    ///
+    /// # Errors
+    ///
+    /// Any error of writing to `w`.
     pub fn write(self, w: &mut dyn Write, cloud: &PointCloud, palette: &[[u8; 3]]) -> Result<()> {
         match self {
             CloudFormat::Ply => write_ply(w, cloud),

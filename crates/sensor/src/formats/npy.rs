@@ -40,6 +40,10 @@ fn array<T: Copy, const N: usize>(
 
 /// Writes the SynMotor training layout: float32 N×7 `x y z r g b label`, colours 0..1 from
 /// `palette` indexed by class (grey beyond it).
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud, palette: &[[u8; 3]]) -> Result<()> {
     let rows = (0..c.len()).flat_map(|i| {
         let rgb = palette
@@ -56,6 +60,10 @@ pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud, palette: &[[u8; 3]]
 /// Writes an NPZ with arrays `xyz` (N×3 float32), `normal` (N×3 float32), `intensity` (N
 /// float32), `label` (N uint16, the class) and `instance` (N uint32). Entries are stored
 /// uncompressed with a fixed timestamp, so the bytes are reproducible.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default()
@@ -106,6 +114,10 @@ pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
 }
 
 /// Writes a float32 H×W depth image in metres (z in the camera frame), NaN where no data.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_depth_npy(
     w: &mut dyn Write,
     width: usize,

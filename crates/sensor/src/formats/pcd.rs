@@ -7,6 +7,10 @@ use crate::cloud::PointCloud;
 
 /// Writes fields `x y z normal_x normal_y normal_z intensity` (F4), `label` (U4, the class) and
 /// `instance` (U4), as an unorganized cloud (HEIGHT 1).
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_pcd(w: &mut dyn Write, c: &PointCloud, binary: bool) -> Result<()> {
     write!(
         w,

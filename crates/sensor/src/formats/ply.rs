@@ -6,6 +6,10 @@ use super::write_rows;
 use crate::cloud::PointCloud;
 
 /// Writes `x y z nx ny nz intensity` (float), `class` (ushort) and `instance` (uint) per vertex.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
 pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
     write!(
         w,

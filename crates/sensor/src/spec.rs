@@ -181,6 +181,24 @@ impl SensorSpec {
     /// - `kinect-v1`: Blensor's `kinect` parameters: 640×480, 55.64°×43.18°, baseline 0.075 m,
     ///   0.7-6 m, 1/8 px disparity, 9×9 window; disparity noise 1/6 px as SimKinect (Handa 2014).
     /// - `ideal`: the Zivid 2+ camera with no noise and no projector.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::UnknownPreset`] for a name not in [`PRESETS`].
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use sensor::{Model, SensorSpec};
+    ///
+    /// let m130 = SensorSpec::preset("zivid-2plus-m130")?;
+    /// assert_eq!((m130.intrinsics.width, m130.intrinsics.height), (2448, 2048));
+    /// assert!(matches!(m130.model, Model::StructuredLight { .. }));
+    /// // 4×4 binning, as the default dataset uses it
+    /// assert_eq!(m130.intrinsics.binned(4).width, 612);
+    /// assert!(SensorSpec::preset("zivid-3").is_err());
+    /// # Ok::<(), sensor::Error>(())
+    /// ```
     pub fn preset(name: &str) -> Result<SensorSpec, Error> {
         let zivid2plus = Intrinsics {
             width: 2448,
@@ -332,6 +350,11 @@ impl SensorSpec {
     }
 
     /// Checks the camera and the ranges.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] naming the first field that is out of range
+    /// (intrinsics, ranges, projector, noise).
     pub fn validate(&self) -> Result<(), Error> {
         self.intrinsics.validate()?;
         self.noise.validate()?;

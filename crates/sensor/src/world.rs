@@ -85,7 +85,7 @@ struct TriInfo {
 
 /// The scanned world: one BVH over every target's triangles.
 #[derive(Clone, Debug)]
-pub struct Scene {
+pub struct World {
     bvh: Bvh,
     tris: Vec<TriInfo>,
     /// Per target, what its hits carry.
@@ -105,7 +105,7 @@ struct Surface {
 pub struct SurfaceHit {
     /// Distance along the ray.
     pub t: f32,
-    /// Triangle in the scene (targets' triangles in order).
+    /// Triangle in the world (targets' triangles in order).
     pub triangle: u32,
     /// Unit geometric normal, facing the ray's origin.
     pub normal: Vec3,
@@ -120,10 +120,10 @@ pub struct SurfaceHit {
     pub lobe_cos: f32,
 }
 
-impl Scene {
-    /// Builds the scene. Triangles with repeated vertices or zero area cannot be hit and are
+impl World {
+    /// Builds the world. Triangles with repeated vertices or zero area cannot be hit and are
     /// kept only for numbering.
-    pub fn new(targets: &[Target]) -> Scene {
+    pub fn new(targets: &[Target]) -> World {
         let count: usize = targets.iter().map(|t| t.triangles.len()).sum();
         let mut corners = Vec::with_capacity(count);
         let mut tris = Vec::with_capacity(count);
@@ -142,7 +142,7 @@ impl Scene {
                 corners.push(c);
             }
         }
-        Scene {
+        World {
             bvh: Bvh::build(&corners),
             tris,
             surfaces: targets
@@ -206,7 +206,7 @@ impl Scene {
         self.bvh.occluded(origin, dir, t_max)
     }
 
-    /// The scene prepared to be cut in the epipolar planes of a pinhole camera's rows `rows`
+    /// The world prepared to be cut in the epipolar planes of a pinhole camera's rows `rows`
     /// (see [`crate::epipolar`]), taken `band_rows` at a time, for rays that reach no farther
     /// than `max_range` and a projector at `baseline` m along camera +x.
     pub(crate) fn epipolar(
