@@ -21,7 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         written.len()
     );
     for gear in &motor.attributes.gears {
-        println!("  gear centre {:?}, axis {:?}", gear.center, gear.axis);
+        println!("  gear centre {:?}, axis {:?}", gear.centre, gear.axis);
     }
     Ok(())
 }

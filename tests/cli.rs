@@ -519,10 +519,7 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
 #[test]
 fn the_documented_custom_sensor_is_a_valid_sensor() {
     let doc = std::fs::read_to_string("docs/sensors.md").unwrap();
-    let after = doc
-        .split("## Custom sensors")
-        .nth(1)
-        .unwrap();
+    let after = doc.split("## Custom sensors").nth(1).unwrap();
     let block = after
         .split("```toml\n")
         .nth(1)

@@ -236,7 +236,8 @@ pub struct GearAttr {
     /// lower_gear, upper_gear or gear.
     pub kind: PartKind,
     /// Centre of the gear housing on the cover plane.
-    pub center: Vec3,
+    #[serde(rename = "center")]
+    pub centre: Vec3,
     /// Gear axis, pointing out of the cover.
     pub axis: Vec3,
     /// Outer diameter of the gear housing (the parameter).
@@ -255,7 +256,8 @@ pub struct BoltAttr {
     /// Instance id of the part.
     pub instance: u32,
     /// Centre of the head's drive face (where a screwdriver engages).
-    pub head_center: Vec3,
+    #[serde(rename = "head_center")]
+    pub head_centre: Vec3,
     /// Unit screwing direction, from the head into the part.
     pub axis: Vec3,
     /// Screw drive.

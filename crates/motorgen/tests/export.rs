@@ -214,7 +214,7 @@ fn attributes_json_and_csv_hold_the_ground_truth() {
         json["attributes"]["bolts"].as_array().unwrap().len(),
         m.attributes.bolts.len()
     );
-    let c = m.attributes.gears[1].center;
+    let c = m.attributes.gears[1].centre;
     let g = &json["attributes"]["gears"][1]["center"];
     assert_eq!(
         [

@@ -75,11 +75,11 @@ fn check_motor(p: &MotorParams, detail: Detail) -> Result<(), TestCaseError> {
             .mesh
             .positions
             .iter()
-            .map(|v| (*v - b.head_center).dot(-b.axis))
+            .map(|v| (*v - b.head_centre).dot(-b.axis))
             .collect();
         prop_assert!(heights.iter().all(|h| *h < TOL));
         prop_assert!(heights.iter().any(|h| h.abs() < TOL));
-        let off_axis = part.mesh.bounds().center() - b.head_center;
+        let off_axis = part.mesh.bounds().centre() - b.head_centre;
         prop_assert!(
             (off_axis - off_axis.dot(b.axis) * b.axis).length() < 1e-4,
             "{} off axis {off_axis}",
@@ -110,7 +110,7 @@ fn check_motor(p: &MotorParams, detail: Detail) -> Result<(), TestCaseError> {
             .positions
             .iter()
             .filter(|q| {
-                let d = **q - g.center;
+                let d = **q - g.centre;
                 let radial = (d - d.dot(g.axis) * g.axis).length();
                 (radial - dia / 2.0).abs() < TOL && d.dot(g.axis) < TOL
             })
@@ -121,7 +121,7 @@ fn check_motor(p: &MotorParams, detail: Detail) -> Result<(), TestCaseError> {
             kind
         );
         let inner = parts(&m, *kind)[0].mesh.bounds();
-        prop_assert!(g.gear_diameter < *dia && (inner.center() - g.center).dot(u).abs() < 1e-4);
+        prop_assert!(g.gear_diameter < *dia && (inner.centre() - g.centre).dot(u).abs() < 1e-4);
     }
     let angle_of = |centre: Vec3, point: Vec3| {
         let d = point - centre;
@@ -134,7 +134,7 @@ fn check_motor(p: &MotorParams, detail: Detail) -> Result<(), TestCaseError> {
      -> Result<(), TestCaseError> {
         let g = &m.attributes.gears[k];
         for (a, b) in angles.iter().zip(bolts) {
-            let d = b.head_center - g.center;
+            let d = b.head_centre - g.centre;
             let radial = (d - d.dot(g.axis) * g.axis).length();
             prop_assert!(
                 (radial - (dia / 2.0 + 0.0036)).abs() < 2e-5,
@@ -142,7 +142,7 @@ fn check_motor(p: &MotorParams, detail: Detail) -> Result<(), TestCaseError> {
                 b.name
             );
             prop_assert!(
-                ((angle_of(g.center, b.head_center) - a + 540.0) % 360.0 - 180.0).abs() < 0.01,
+                ((angle_of(g.centre, b.head_centre) - a + 540.0) % 360.0 - 180.0).abs() < 0.01,
                 "{} angle",
                 b.name
             );
@@ -182,7 +182,7 @@ fn check_motor(p: &MotorParams, detail: Detail) -> Result<(), TestCaseError> {
                 p.b_bolt_angles_deg(),
                 &cover_bolts,
             )?;
-            let right = cover_bolts.last().unwrap().head_center;
+            let right = cover_bolts.last().unwrap().head_centre;
             prop_assert!(
                 (right.z - (m.attributes.pole_pot_top + p.type_b_right_bolt_height)).abs() < TOL
             );
@@ -293,8 +293,8 @@ fn mirror_reflects_the_gearbox() {
     let m = build(&params(&[("mirror", Value::Bool(true))]), Detail::Coarse);
     let plain = build(&MotorParams::default(), Detail::Coarse);
     let (a, b) = (
-        m.attributes.gears[0].center,
-        plain.attributes.gears[0].center,
+        m.attributes.gears[0].centre,
+        plain.attributes.gears[0].centre,
     );
     assert!((a - Vec3::new(-b.x, b.y, b.z)).length() < 1e-6);
 }
@@ -413,7 +413,7 @@ fn exploded_view_moves_parts_apart() {
             .unwrap()
             .mesh
             .bounds()
-            .center()
+            .centre()
     };
     // cover moves out along its gear axis (-y at r0)
     assert!((cover(&e) - cover(&m)).dot(Vec3::NEG_Y) > 0.04);

@@ -34,7 +34,7 @@ pub struct Cell {
     pub motor_to_world: Affine3A,
     /// Centre of the motor's bounding box at its nominal pose (before jitter), world: the point
     /// cameras look at and crop boxes are centred on.
-    pub motor_center: Vec3,
+    pub motor_centre: Vec3,
     /// Fixture parts and how far each moved from rest, m.
     pub fixture: Vec<(String, Vec3)>,
 }
@@ -92,11 +92,11 @@ fn draw(s: &Shift, rng: &mut impl Rng) -> Vec3 {
 pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut impl Rng) -> Cell {
     let lay = Affine3A::from_mat3(lay_down(motor));
     let laid = transform_box(&motor.attributes.bounds, &lay);
-    let c = laid.center();
+    let c = laid.centre();
     let nominal =
         Affine3A::from_translation(Vec3::new(-c.x, -c.y, PLATE + config.clearance - laid.min.z))
             * lay;
-    let motor_center = nominal.transform_point3(motor.attributes.bounds.center());
+    let motor_centre = nominal.transform_point3(motor.attributes.bounds.centre());
     let [jx, jy, jz] = config.pose_jitter_deg.map(|d| {
         let d = d.to_radians();
         if d > 0.0 {
@@ -105,9 +105,9 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
             0.0
         }
     });
-    let jitter = Affine3A::from_translation(motor_center)
+    let jitter = Affine3A::from_translation(motor_centre)
         * Affine3A::from_mat3(Mat3::from_euler(EulerRot::XYZ, jx, jy, jz))
-        * Affine3A::from_translation(-motor_center);
+        * Affine3A::from_translation(-motor_centre);
     let motor_to_world = jitter * nominal;
 
     let hidden = |k: PartKind| match k {
@@ -175,7 +175,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
             .max
             .z;
         let gears = &motor.attributes.gears;
-        let gearbox = gears.iter().map(|g| g.center).sum::<Vec3>() / gears.len().max(1) as f32;
+        let gearbox = gears.iter().map(|g| g.centre).sum::<Vec3>() / gears.len().max(1) as f32;
         let gearbox = motor_to_world.transform_point3(gearbox);
         let o = &config.occluders;
         let count = rng.random_range(o.count[0]..=o.count[1]);
@@ -215,7 +215,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
     Cell {
         objects,
         motor_to_world,
-        motor_center,
+        motor_centre,
         fixture: [
             ("fixed_jaw", shifts.fixed_jaw),
             ("sliding_jaw", shifts.sliding_jaw),

@@ -33,8 +33,8 @@ pub fn fixture(
     plate: f32,
     shift: &Fixture,
 ) -> Vec<(&'static str, Mesh, Material)> {
-    let axis_z = pot.center().z;
-    let jaw_x = pot.center().x;
+    let axis_z = pot.centre().z;
+    let jaw_x = pot.centre().x;
     let jaw_top = axis_z + 0.25 * (pot.max.z - pot.min.z);
     let jaw = |y0: f32, y1: f32, s: Vec3| {
         cuboid(

@@ -184,12 +184,12 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     );
     let crop = crop_box(
         &config.crop,
-        cell.motor_center,
+        cell.motor_centre,
         &mut rng(seed, stream::CROP),
     );
     let poses = camera_poses(
         &config.camera,
-        cell.motor_center,
+        cell.motor_centre,
         index,
         &mut rng(seed, stream::CAMERA),
     );
@@ -212,7 +212,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             // beyond the reach of the sensor's neighbour effects (in pixel footprints at the
             // box's far corner, than which no corner is farther), so cropping loses nothing
             let region = (!whole).then(|| {
-                let far = crop.center().distance(Vec3::from(pose.translation))
+                let far = crop.centre().distance(Vec3::from(pose.translation))
                     + crop.size().length() / 2.0;
                 let k = &sensor.intrinsics;
                 let margin = sensor.reach_px() * far / k.fx.min(k.fy) as f32;

@@ -10,29 +10,9 @@ use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 use sensor::{Bvh, Material, SensorSpec, Target, World, look_at, scan, scan_reusing};
 
-/// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about 4n² triangles.
+/// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about `triangles`.
 fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
-    let n = ((triangles / 4) as f64).sqrt() as usize;
-    let sphere = |i: usize, j: usize| {
-        let (th, ph) = (
-            std::f64::consts::PI * i as f64 / n as f64,
-            std::f64::consts::TAU * j as f64 / n as f64,
-        );
-        (glam::DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos() + 1.0) * 0.25)
-            .as_vec3()
-    };
-    let plane =
-        |i: usize, j: usize| Vec3::new(i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5, 0.0);
-    let mut t = Vec::with_capacity(4 * n * n);
-    for p in [&sphere as &dyn Fn(usize, usize) -> Vec3, &plane] {
-        for i in 0..n {
-            for j in 0..n {
-                t.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
-                t.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
-            }
-        }
-    }
-    t
+    sensor::shapes::sphere_on_plane(((triangles / 4) as f64).sqrt() as usize)
 }
 
 const W: usize = 1944;

@@ -66,9 +66,12 @@ fn main() {
                                     ray(4 * g + l).map_or(0.0, |_| f32::INFINITY)
                                 })
                             });
-                            let hits = world.cast_packet(rs[0].0, &dirs, &t_max);
-                            for (slot, h) in slots.iter_mut().zip(hits.iter().flatten()) {
-                                *slot = match h {
+                            let hits = world.bvh().cast_packet(rs[0].0, &dirs, &t_max);
+                            let dirs = dirs.iter().flatten();
+                            for ((slot, h), &d) in
+                                slots.iter_mut().zip(hits.iter().flatten()).zip(dirs)
+                            {
+                                *slot = match h.map(|h| world.surface(&h, d)) {
                                     Some(h) => {
                                         [h.t, h.triangle as f32, h.normal.x, h.normal.y, h.normal.z]
                                     }

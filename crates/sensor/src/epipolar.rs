@@ -453,11 +453,11 @@ fn lesser(p: Vec3, q: Vec3) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
     use proptest::prelude::*;
 
     use super::*;
     use crate::scan::gap;
+    use crate::shapes::sphere_on_plane;
     use crate::{Material, Projector, Target, World, look_at};
 
     /// For every pixel whose centre ray meets a surface: whether the projector's ray to that
@@ -564,29 +564,6 @@ mod tests {
         [x, -x, y, -y]
             .iter()
             .any(|&d| verdict((dir + d).normalize()) != here)
-    }
-
-    fn sphere_on_plane(n: usize) -> Vec<[Vec3; 3]> {
-        let sphere = |i: usize, j: usize| {
-            let (th, ph) = (
-                std::f64::consts::PI * i as f64 / n as f64,
-                std::f64::consts::TAU * j as f64 / n as f64,
-            );
-            (DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos() + 1.0) * 0.25).as_vec3()
-        };
-        let plane = |i: usize, j: usize| {
-            Vec3::new(i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5, 0.0)
-        };
-        let mut tris = Vec::new();
-        for p in [&sphere as &dyn Fn(usize, usize) -> Vec3, &plane] {
-            for i in 0..n {
-                for j in 0..n {
-                    tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
-                    tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
-                }
-            }
-        }
-        tris
     }
 
     /// How many pixels differ, and the first few.

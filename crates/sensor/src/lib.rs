@@ -46,6 +46,7 @@ mod error;
 pub mod formats;
 pub mod noise;
 pub mod scan;
+pub mod shapes;
 pub mod spec;
 pub mod world;
 

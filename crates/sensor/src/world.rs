@@ -5,7 +5,7 @@ use std::ops::Range;
 use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
 
-use crate::bvh::{Bvh, lanes};
+use crate::bvh::{Bvh, Hit};
 use crate::camera::Intrinsics;
 use crate::epipolar::Epipolar;
 
@@ -169,35 +169,17 @@ impl World {
             .map(|h| self.describe(h.t, h.triangle, dir))
     }
 
-    /// The closest surfaces along a packet of unit rays from one origin, `G` groups of four,
-    /// traced together (see [`Bvh::cast_packet`]); lanes with `t_max <= 0` are idle.
+    /// What a ray in direction `dir` finds at `hit` (a hit of [`World::bvh`]'s casts): the
+    /// surface's normal facing the ray, its class, instance and material.
     #[inline]
-    pub fn cast_packet<const G: usize>(
-        &self,
-        origin: Vec3,
-        dirs: &[[Vec3; 4]; G],
-        t_max: &[[f32; 4]; G],
-    ) -> [[Option<SurfaceHit>; 4]; G] {
-        let hits = self.bvh.cast_packet(origin, dirs, t_max);
-        let mut out = [[None; 4]; G];
-        for (g, k) in lanes::<G>() {
-            if let Some(h) = hits[g][k] {
-                out[g][k] = Some(self.describe(h.t, h.triangle, dirs[g][k]));
-            }
-        }
-        out
+    pub fn surface(&self, hit: &Hit, dir: Vec3) -> SurfaceHit {
+        self.describe(hit.t, hit.triangle, dir)
     }
 
-    /// Whether any surface lies on each unit ray of a packet from one origin within its
-    /// `t_max`, traced together; lanes with `t_max <= 0` are idle (and not occluded).
-    #[inline]
-    pub fn occluded_packet<const G: usize>(
-        &self,
-        origin: Vec3,
-        dirs: &[[Vec3; 4]; G],
-        t_max: &[[f32; 4]; G],
-    ) -> [[bool; 4]; G] {
-        self.bvh.occluded_packet(origin, dirs, t_max)
+    /// The BVH over every target's triangles, for casting packets of rays
+    /// ([`Bvh::cast_packet`], [`Bvh::occluded_packet`]).
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
     }
 
     /// Whether any surface lies on the unit ray within `t_max`.

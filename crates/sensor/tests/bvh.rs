@@ -3,6 +3,7 @@
 use glam::Vec3;
 use proptest::prelude::*;
 use sensor::Bvh;
+use sensor::shapes::grid;
 
 /// The nearest hit by testing every triangle in f64 (Möller–Trumbore with a 1e-12 tolerance).
 fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, u32)> {
@@ -27,18 +28,6 @@ fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, u32)>
         }
     }
     best.map(|(t, i)| (t as f32, i))
-}
-
-/// Two triangles per cell of the n×n parametric grid `p(i, j)`, i and j in 0..=n.
-fn quads(n: usize, p: impl Fn(usize, usize) -> Vec3) -> Vec<[Vec3; 3]> {
-    let mut tris = Vec::with_capacity(2 * n * n);
-    for i in 0..n {
-        for j in 0..n {
-            tris.push([p(i, j), p(i + 1, j), p(i + 1, j + 1)]);
-            tris.push([p(i, j), p(i + 1, j + 1), p(i, j + 1)]);
-        }
-    }
-    tris
 }
 
 fn v3() -> impl Strategy<Value = Vec3> {
@@ -107,7 +96,7 @@ fn single_triangle_and_empty() {
 fn large_grid_uses_ploc_and_stays_exact() {
     // a 300 x 300 quad grid (180k triangles) at z = 1.5: every ray down the z axis hits it at 1.5
     let n = 300;
-    let tris = quads(n, |a, b| {
+    let tris = grid(n, |a, b| {
         Vec3::new(a as f32 / n as f32 - 0.5, b as f32 / n as f32 - 0.5, 1.5)
     });
     let bvh = Bvh::build(&tris);
@@ -138,7 +127,7 @@ fn grid_cube(n: usize) -> Vec<[Vec3; 3]> {
                 v[(axis + 2) % 3] = b;
                 Vec3::from(v)
             };
-            tris.extend(quads(n, p));
+            tris.extend(grid(n, p));
         }
     }
     tris
@@ -191,7 +180,7 @@ fn axis_parallel_rays_through_a_sphere_pole_match_brute_force() {
         );
         Vec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()) * 0.25 + Vec3::Z * 0.25
     };
-    let tris = quads(n, p);
+    let tris = grid(n, p);
     let bvh = Bvh::build(&tris);
     for k in -40..=40 {
         let s = k as f32 * 0.005;
@@ -262,15 +251,7 @@ fn rays_in_the_plane_where_boxes_end_still_hit() {
 /// seen by the centre row of a camera, whose rays have a direction y of exactly 0.
 #[test]
 fn centre_row_rays_on_an_f64_tessellated_sphere_match_brute_force() {
-    let n = 40;
-    let p = |i: usize, j: usize| {
-        let (th, ph) = (
-            std::f64::consts::PI * i as f64 / n as f64,
-            std::f64::consts::TAU * j as f64 / n as f64,
-        );
-        glam::DVec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos() + 1.0).as_vec3() * 0.25
-    };
-    let tris = quads(n, p);
+    let tris = sensor::shapes::sphere(Vec3::Z * 0.25, 0.25, 40);
     let bvh = Bvh::build(&tris);
     for u in 0..400 {
         let d = Vec3::new((u as f32 - 200.0) / 300.0, 0.0, -1.0).normalize();

@@ -57,10 +57,10 @@ pub fn csv_row(id: &str, motor: &Motor) -> String {
         None => vec![String::new(); 3],
     };
     for k in 0..2 {
-        cells.extend(xyz(a.gears.get(k).map(|g| g.center)));
+        cells.extend(xyz(a.gears.get(k).map(|g| g.centre)));
     }
     for k in 0..CSV_BOLTS {
-        cells.extend(xyz(cover_bolts.get(k).map(|b| b.head_center)));
+        cells.extend(xyz(cover_bolts.get(k).map(|b| b.head_centre)));
     }
     cells.extend([
         p.gearbox_orientation_deg.to_string(),

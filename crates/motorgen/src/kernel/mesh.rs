@@ -42,7 +42,7 @@ impl Aabb {
     }
 
     /// Centre point.
-    pub fn center(&self) -> Vec3 {
+    pub fn centre(&self) -> Vec3 {
         (self.min + self.max) * 0.5
     }
 }

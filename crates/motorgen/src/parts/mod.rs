@@ -145,7 +145,7 @@ pub fn build(params: &MotorParams, detail: Detail) -> Motor {
         asm.add(g.kind, mesh, explode * out);
         asm.gears.push(GearAttr {
             kind: g.kind,
-            center: gb.point(g.centre, 0.0),
+            centre: gb.point(g.centre, 0.0),
             axis: out,
             housing_diameter: 2.0 * g.radius,
             gear_diameter: tip,
@@ -215,7 +215,7 @@ impl Assembly {
             name,
             kind,
             instance,
-            head_center: head,
+            head_centre: head,
             axis,
             drive: p.bolt_drive,
             rotation_deg,
@@ -231,10 +231,10 @@ impl Assembly {
             part.explode *= M_PER_CM;
         }
         for b in &mut self.bolts {
-            b.head_center *= M_PER_CM;
+            b.head_centre *= M_PER_CM;
         }
         for g in &mut self.gears {
-            g.center *= M_PER_CM;
+            g.centre *= M_PER_CM;
             g.housing_diameter *= M_PER_CM;
             g.gear_diameter *= M_PER_CM;
         }

@@ -1,0 +1,219 @@
+//! A lit pixel measured as a point: where it samples, range noise, disparity, bias,
+//! quantization and range limits; and the effects of neighbours (mixed pixels, the Kinect window).
+
+use std::ops::Range;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::cast::Capture;
+use super::light::LitPixel;
+use super::{Pixel, Scan};
+use crate::noise::{PixelRng, stream};
+use crate::spec::{Model, SensorSpec};
+
+/// `f32::round` (halves away from zero) without its libm call (baseline x86-64 has no rounding
+/// instruction): the integer part by a cast, then the fraction decides, without a branch (with
+/// noise under the quantum, it is as good as random).
+#[inline]
+fn round(x: f32) -> f32 {
+    let a = x.abs();
+    if a.is_nan() || a >= 1e18 {
+        return x; // NaN, infinite, or already whole
+    }
+    let whole = a as i64 as f32;
+    let rounded = whole + f32::from(u8::from(a - whole >= 0.5));
+    rounded.copysign(x)
+}
+
+/// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
+/// where it samples (its centre, or a laterally jittered position), range noise,
+/// quantisation and the range limits.
+pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
+    let Capture {
+        sensor,
+        bias,
+        pinhole,
+        ..
+    } = *setup;
+    let k = &sensor.intrinsics;
+    let noise = &sensor.noise;
+    let LitPixel {
+        pixel: [col, row],
+        centre,
+        t,
+        signal,
+        rng,
+        ..
+    } = *lit;
+    // where this pixel actually samples: its centre, or a laterally jittered position on the
+    // tangent plane of the surface it sees
+    let (dir, mut range) = if noise.lateral_px > 0.0 {
+        let du = noise.lateral_px * rng.normal(stream::LATERAL);
+        let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
+        let d = if pinhole {
+            // a pinhole's: the centre ray's image point, moved
+            let shift = Vec3::new(du / k.fx as f32, dv / k.fy as f32, 0.0);
+            (centre / centre.z + shift).normalize()
+        } else {
+            k.ray(col as f64 + du as f64, row as f64 + dv as f64)
+        };
+        let facing = px.normal.dot(d);
+        if facing.abs() < 1e-6 {
+            return; // grazing: the jittered ray runs along the surface
+        }
+        (d, px.normal.dot(px.clean) / facing)
+    } else {
+        (centre, t)
+    };
+    if range.is_nan() || range < sensor.min_range {
+        return;
+    }
+    let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
+    if sigma > 0.0 {
+        range += sigma * rng.normal(stream::AXIAL);
+    }
+    if let Model::Kinect {
+        projector,
+        disparity_sigma_px,
+        subpixel,
+        ..
+    } = sensor.model
+    {
+        let fb = k.fx as f32 * projector.baseline;
+        let z = range * dir.z;
+        let disparity = fb / z + disparity_sigma_px * rng.normal(stream::DISPARITY);
+        let disparity = round(disparity * subpixel) / subpixel;
+        if disparity <= 0.0 {
+            return;
+        }
+        range = fb / disparity / dir.z;
+    }
+    range = range * bias.0 + bias.1;
+    if noise.quantization > 0.0 {
+        range = round(range / noise.quantization) * noise.quantization;
+    }
+    if !(sensor.min_range..=sensor.max_range).contains(&range) {
+        return;
+    }
+    px.intensity = signal;
+    px.point = dir * range;
+}
+
+/// Mixed pixels: an edge pixel may be pulled along its own ray towards its neighbour's depth.
+/// Only `rows` can hold points.
+pub(super) fn mixed_pixels(scan: &mut Scan, rows: Range<usize>, sensor: &SensorSpec, seed: u64) {
+    let w = scan.width as usize;
+    let cast = &mut scan.pixels[rows.start * w..rows.end * w];
+    // each pixel's range, NaN where it has no point
+    let ranges: Vec<f32> = cast
+        .par_iter()
+        .map(|p| {
+            if p.is_valid() {
+                p.point.length()
+            } else {
+                f32::NAN
+            }
+        })
+        .collect();
+    let none = vec![f32::NAN; w]; // the rows beyond the first and last
+    let edges = sensor.noise.edges;
+    cast.par_chunks_mut(w).enumerate().for_each(|(r, out)| {
+        let line = |r: usize| ranges.get(r * w..(r + 1) * w).unwrap_or(&none);
+        let (here, below) = (line(r), line(r + 1));
+        let above = r.checked_sub(1).map_or(&none[..], line);
+        let beside = |c: usize| here.get(c).copied().unwrap_or(f32::NAN);
+        for (col, px) in out.iter_mut().enumerate() {
+            let range = here[col];
+            let step = |other: f32| (other - range).abs();
+            // the 4-neighbours' ranges (NaN: no point) and the largest difference to one,
+            // found without branches (a NaN difference never compares greater: one `maxss`
+            // each); the few edges then draw
+            let neighbours = [
+                beside(col.wrapping_sub(1)),
+                beside(col + 1),
+                above[col],
+                below[col],
+            ];
+            let gap = neighbours
+                .map(step)
+                .into_iter()
+                .fold(f32::NEG_INFINITY, |gap, s| if s > gap { s } else { gap });
+            if gap <= edges.jump {
+                continue; // no point, no neighbour with one, or no edge
+            }
+            let rng = PixelRng::new(seed, ((rows.start + r) * w + col) as u64);
+            if rng.uniform(stream::EDGE) < edges.probability {
+                // the neighbour whose range differs most (the last of equals)
+                let other = neighbours
+                    .into_iter()
+                    .rev()
+                    .find(|&n| step(n) == gap)
+                    .unwrap_or(range);
+                let blend = rng.uniform(stream::EDGE + 1);
+                px.point *= (range + blend * (other - range)) / range;
+            }
+        }
+    });
+}
+
+/// Kinect validity window: a pixel stays if enough of its window holds points within the
+/// inlier distance of its depth.
+pub(super) fn window_filter(scan: &mut Scan, window: usize, fraction: f32, inlier: f32) {
+    let (w, h) = (scan.width as usize, scan.height as usize);
+    let depth: Vec<f32> = scan
+        .pixels
+        .iter()
+        .map(|p| if p.is_valid() { p.point.z } else { f32::NAN })
+        .collect();
+    let half = window / 2;
+    let needed = (fraction * (window * window) as f32).ceil() as usize;
+    scan.pixels
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(row, out)| {
+            for (col, px) in out.iter_mut().enumerate() {
+                let z = depth[row * w + col];
+                if z.is_nan() {
+                    continue;
+                }
+                let agree = (row.saturating_sub(half)..(row + half + 1).min(h))
+                    .flat_map(|r| {
+                        (col.saturating_sub(half)..(col + half + 1).min(w)).map(move |c| r * w + c)
+                    })
+                    .filter(|&j| (depth[j] - z).abs() < inlier)
+                    .count();
+                if agree < needed {
+                    px.point = Vec3::NAN;
+                }
+            }
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_is_f32_round() {
+        let special = [
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            0.499_999_97,
+            8_388_607.5,
+            1e18,
+            f32::MAX,
+            -0.0,
+        ];
+        let values = (-200_000..200_000)
+            .map(|i| i as f32 * 0.25 + 0.1 * (i % 7) as f32)
+            .chain(special)
+            .chain([f32::INFINITY, f32::NEG_INFINITY]);
+        for x in values {
+            assert_eq!(round(x).to_bits(), x.round().to_bits(), "{x}");
+        }
+        assert!(round(f32::NAN).is_nan());
+    }
+}

@@ -1,0 +1,206 @@
+//! Scanning: one organized H×W grid of returns per scan, in the camera frame.
+//!
+//! A scan is made in four steps, a module each: [`region`] limits the pixels cast to those
+//! that can see a region; `cast` finds each pixel's first surface and the projector's shadows,
+//! along one of two paths (rows cut in their epipolar planes, or blocks of rays cast as packets
+//! through the BVH); `light` labels a pixel and decides its signal and losses; `measure` turns a
+//! lit pixel into a point with noise and makes the neighbour effects (mixed pixels, the Kinect
+//! window).
+
+mod cast;
+mod light;
+mod measure;
+pub mod region;
+
+use glam::{Affine3A, Vec3};
+use rayon::prelude::*;
+
+use crate::spec::{Model, SensorSpec};
+use crate::world::World;
+
+#[cfg(test)]
+pub(crate) use cast::gap;
+use cast::{BLOCK, Band, Capture};
+use measure::{mixed_pixels, window_filter};
+pub use region::{Region, Window};
+
+/// One pixel of a scan, in the camera frame (x right, y down, z forward), metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pixel {
+    /// The measured point, noise included; NaN where the sensor returns nothing.
+    pub point: Vec3,
+    /// The exact surface point on the pixel's centre ray; NaN where that ray hits nothing.
+    pub clean: Vec3,
+    /// Unit normal of the surface the point (or, without a point, the clean point) lies on.
+    pub normal: Vec3,
+    /// Semantic class of that surface (0 where nothing was hit).
+    pub class: u16,
+    /// Instance id of that surface (0 where nothing was hit).
+    pub instance: u32,
+    /// Signal strength: reflectivity × cos(incidence of the light) × (reference / range)².
+    pub intensity: f32,
+    /// Angle between the surface normal and the direction to the camera, radians.
+    pub incidence: f32,
+}
+
+impl Pixel {
+    /// A pixel that saw nothing.
+    pub const EMPTY: Pixel = Pixel {
+        point: Vec3::NAN,
+        clean: Vec3::NAN,
+        normal: Vec3::NAN,
+        class: 0,
+        instance: 0,
+        intensity: 0.0,
+        incidence: f32::NAN,
+    };
+
+    /// Whether the sensor returned a point.
+    pub fn is_valid(&self) -> bool {
+        !self.point.x.is_nan()
+    }
+}
+
+/// An organized scan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scan {
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// Row-major pixels.
+    pub pixels: Vec<Pixel>,
+    /// Camera-to-world pose of the scan.
+    pub pose: Affine3A,
+}
+
+impl Scan {
+    /// Number of pixels with a point.
+    pub fn valid_count(&self) -> usize {
+        self.pixels.iter().filter(|p| p.is_valid()).count()
+    }
+}
+
+/// Scans `world` with `sensor` from the camera-to-world `pose`. Every random draw is keyed by
+/// (seed, pixel), so the result is the same for any number of threads.
+///
+/// # Example
+///
+/// ```
+/// use glam::Vec3;
+/// use sensor::{Material, SensorSpec, Target, World, look_at, scan};
+///
+/// // a triangle soup (as an STL holds it): one big triangle 2 m in front of the camera
+/// let tri = [[Vec3::new(-2.0, -2.0, 0.0), Vec3::new(2.0, -2.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]];
+/// let world = World::new(&[Target::from_triangles(&tri, 1, 7, Material::default())]);
+/// let mut tof = SensorSpec::preset("blensor-tof")?;
+/// tof.noise = Default::default(); // exact depth, to check it
+/// let pose = look_at(Vec3::new(0.0, 0.0, 1.5), Vec3::ZERO, Vec3::Y).unwrap();
+/// let s = scan(&world, &tof, &pose, 0);
+/// let centre = &s.pixels[s.pixels.len() / 2 + tof.intrinsics.width as usize / 2];
+/// assert!((centre.point.z - 1.5).abs() < 1e-4); // camera z, metres
+/// assert_eq!(centre.instance, 7);
+/// # Ok::<(), sensor::Error>(())
+/// ```
+pub fn scan(world: &World, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> Scan {
+    scan_pixels(world, sensor, pose, seed, None, Vec::new())
+}
+
+/// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast
+/// (with a pinhole camera, each row casts the columns towards the region's cut by the row's
+/// plane, and a column either side, whose rays may miss it). A point can only lie in a box its
+/// ray crosses, so cropping to `region` gives what a full scan would; neighbour effects (mixed
+/// pixels, the Kinect window) and lateral jitter reach [`SensorSpec::reach_px`] pixels beyond
+/// it, so callers crop to a box smaller by that many pixel footprints.
+pub fn scan_within(
+    world: &World,
+    sensor: &SensorSpec,
+    pose: &Affine3A,
+    seed: u64,
+    region: &Region,
+) -> Scan {
+    scan_pixels(world, sensor, pose, seed, Some(region), Vec::new())
+}
+
+/// [`scan`], or [`scan_within`] a region, into the allocation of `buffer` (the pixels of an
+/// earlier scan): a caller scanning frame after frame spares the mapping and page faults of a
+/// fresh megapixel buffer each time. The result is the same whatever the buffer held.
+pub fn scan_reusing(
+    world: &World,
+    sensor: &SensorSpec,
+    pose: &Affine3A,
+    seed: u64,
+    region: Option<&Region>,
+    buffer: Vec<Pixel>,
+) -> Scan {
+    scan_pixels(world, sensor, pose, seed, region, buffer)
+}
+
+fn scan_pixels(
+    world: &World,
+    sensor: &SensorSpec,
+    pose: &Affine3A,
+    seed: u64,
+    region: Option<&Region>,
+    mut pixels: Vec<Pixel>,
+) -> Scan {
+    let k = &sensor.intrinsics;
+    let width = k.width as usize;
+    // whatever a reused buffer holds is overwritten below, band by band while it is in cache
+    // (grown in parallel: a fresh buffer's pages are faulted in by both threads)
+    let size = width * k.height as usize;
+    pixels.truncate(size);
+    if pixels.capacity() < size {
+        pixels.reserve_exact(size - pixels.len());
+        advise_huge_pages(&mut pixels);
+    }
+    pixels.par_extend(rayon::iter::repeat_n(Pixel::EMPTY, size - pixels.len()));
+    let window = region
+        .and_then(|reg| reg.pixel_window(k, pose))
+        .unwrap_or_else(|| Window::full(k));
+    let capture = Capture::new(world, sensor, pose, seed, region, &window);
+    pixels
+        .par_chunks_mut(BLOCK * width)
+        .enumerate()
+        .for_each_init(Band::default, |scratch, (band, out)| {
+            capture.band(band, out, scratch);
+        });
+    let mut scan = Scan {
+        width: k.width,
+        height: k.height,
+        pixels,
+        pose: *pose,
+    };
+    if let Model::Kinect {
+        window,
+        window_fraction,
+        inlier_distance,
+        ..
+    } = sensor.model
+        && window > 0
+    {
+        window_filter(&mut scan, window as usize, window_fraction, inlier_distance);
+    }
+    if sensor.noise.edges.probability > 0.0 {
+        mixed_pixels(&mut scan, window.rows, sensor, seed);
+    }
+    scan
+}
+
+/// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB) where it can: a
+/// fresh megapixel buffer then takes hundreds of page faults instead of tens of thousands.
+#[cfg(target_os = "linux")]
+fn advise_huge_pages<T>(v: &mut Vec<T>) {
+    const HUGE: usize = 2 << 20;
+    let spare = v.spare_capacity_mut();
+    let (start, len) = (spare.as_mut_ptr() as usize, size_of_val(spare));
+    let (from, to) = (start.next_multiple_of(HUGE), (start + len) / HUGE * HUGE);
+    if to > from {
+        // SAFETY: advice on memory the vector owns and has not yet written; the kernel may
+        // ignore it, and nothing depends on whether it does
+        unsafe { libc::madvise(from as *mut libc::c_void, to - from, libc::MADV_HUGEPAGE) };
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn advise_huge_pages<T>(_: &mut Vec<T>) {}

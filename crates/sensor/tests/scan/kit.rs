@@ -1,0 +1,75 @@
+//! Scenes, cameras and statistics the scan tests share.
+
+use ::sensor::*;
+use glam::{Affine3A, Vec3};
+
+/// A rectangle in the plane through `c` spanned by `a` and `b` (half extents), as a target.
+pub fn quad(c: Vec3, a: Vec3, b: Vec3, class: u16, instance: u32) -> Target {
+    let tris = shapes::rectangle(c, a, b);
+    Target::from_triangles(&tris, class, instance, Material::default())
+}
+
+/// A sphere of class 3, instance 7.
+pub fn sphere(c: Vec3, r: f32, n: usize) -> Target {
+    Target::from_triangles(&shapes::sphere(c, r, n), 3, 7, Material::default())
+}
+
+pub fn small_camera(w: u32, h: u32, f: f64) -> Intrinsics {
+    Intrinsics {
+        width: w,
+        height: h,
+        fx: f,
+        fy: f,
+        cx: (w as f64 - 1.0) / 2.0,
+        cy: (h as f64 - 1.0) / 2.0,
+        distortion: Distortion::default(),
+    }
+}
+
+pub fn ideal(intrinsics: Intrinsics) -> SensorSpec {
+    SensorSpec {
+        intrinsics,
+        ..SensorSpec::preset("ideal").unwrap()
+    }
+}
+
+pub fn facing_plane(z: f32) -> Target {
+    quad(Vec3::new(0.0, 0.0, z), Vec3::X * 5.0, Vec3::Y * 5.0, 1, 1)
+}
+
+/// A 500×400 camera facing a plane at `z` (200k pixels) with the given noise.
+pub fn noisy_plane(z: f32, noise: Noise, seed: u64) -> Scan {
+    let k = small_camera(500, 400, 800.0);
+    let tof = SensorSpec {
+        intrinsics: k,
+        model: Model::TimeOfFlight,
+        noise,
+        ..ideal(k)
+    };
+    scan(
+        &World::new(&[facing_plane(z)]),
+        &tof,
+        &Affine3A::IDENTITY,
+        seed,
+    )
+}
+
+pub fn range_errors(s: &Scan) -> Vec<f64> {
+    s.pixels
+        .iter()
+        .filter(|p| p.is_valid())
+        .map(|p| (p.point.length() - p.clean.length()) as f64)
+        .collect()
+}
+
+pub fn mean_std(v: &[f64]) -> (f64, f64) {
+    let m = v.iter().sum::<f64>() / v.len() as f64;
+    (
+        m,
+        (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt(),
+    )
+}
+
+pub fn pool_free(world: &World, spec: &SensorSpec, seed: u64) -> Scan {
+    scan(world, spec, &Affine3A::IDENTITY, seed)
+}

@@ -1,0 +1,7 @@
+//! Scans of analytic scenes, one module a topic.
+
+mod geometry;
+mod kit;
+mod noise;
+mod regions;
+mod sensors;
