@@ -37,15 +37,20 @@ pub fn facing_plane(z: f32) -> Target {
     quad(Vec3::new(0.0, 0.0, z), Vec3::X * 5.0, Vec3::Y * 5.0, 1, 1)
 }
 
-/// A 500×400 camera facing a plane at `z` (200k pixels) with the given noise.
-pub fn noisy_plane(z: f32, noise: Noise, seed: u64) -> Scan {
+/// A 500×400 time-of-flight camera (200k pixels) with the given noise.
+pub fn tof_camera(noise: Noise) -> SensorSpec {
     let k = small_camera(500, 400, 800.0);
-    let tof = SensorSpec {
+    SensorSpec {
         intrinsics: k,
         model: Model::TimeOfFlight,
         noise,
         ..ideal(k)
-    };
+    }
+}
+
+/// [`tof_camera`] facing a plane at `z` with the given noise.
+pub fn noisy_plane(z: f32, noise: Noise, seed: u64) -> Scan {
+    let tof = tof_camera(noise);
     scan(
         &World::new(&[facing_plane(z)]),
         &tof,

@@ -189,13 +189,7 @@ fn shiny_surfaces_saturate_near_the_mirror_direction() {
         specular: noise::Specular { probability: 0.5 },
         ..Noise::default()
     };
-    let k = small_camera(500, 400, 800.0);
-    let tof = SensorSpec {
-        intrinsics: k,
-        model: Model::TimeOfFlight,
-        noise,
-        ..ideal(k)
-    };
+    let tof = tof_camera(noise);
     let s = scan(&World::new(&[plane]), &tof, &Affine3A::IDENTITY, 2);
     // with the light at the camera, the highlight is where the ray meets the plane within 5°
     let (mut inside, mut lost_inside, mut lost_outside) = (0, 0, 0);

@@ -1,0 +1,214 @@
+//! A ray-casting BVH: built by parry (binned or PLOC) and collapsed into a 4-wide tree whose
+//! leaf triangles are stored in traversal order (`build`), and walked by packets of rays from one
+//! origin (`traverse`): each node's four boxes are tested once per packet against the cone the
+//! rays span, nearest child first, and each triangle against four rays at once with a watertight
+//! test (Woop et al. 2013; `triangle`). A single ray is a packet with one live lane.
+
+mod build;
+mod traverse;
+mod triangle;
+
+use glam::{Vec3, Vec4};
+
+pub(crate) use traverse::lanes;
+use triangle::Rays4;
+
+/// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
+/// x, y, z maxima), and each child's code: an internal node index, [`LEAF`] | triangle slot, or
+/// [`EMPTY`] (whose box is inverted, +∞ to -∞, so that no ray enters it).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Node4 {
+    bounds: [Vec4; 6],
+    child: [u32; 4],
+}
+
+/// Child code bit of a leaf.
+const LEAF: u32 = 1 << 31;
+/// Child code of an unused lane.
+const EMPTY: u32 = u32::MAX;
+
+impl Node4 {
+    const VACANT: Node4 = Node4 {
+        bounds: [
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::NEG_INFINITY,
+        ],
+        child: [EMPTY; 4],
+    };
+}
+
+/// A triangle's vertices.
+type Tri = [Vec3; 3];
+
+/// The closest intersection along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Distance along the (unit) ray direction.
+    pub t: f32,
+    /// Index of the triangle in the input order.
+    pub triangle: u32,
+    /// Barycentric coordinate of the second vertex.
+    pub u: f32,
+    /// Barycentric coordinate of the third vertex.
+    pub v: f32,
+}
+
+impl Hit {
+    /// Takes `other` if it is nearer, or as near with a lower triangle slot (so that ties at
+    /// shared edges resolve the same way in any traversal order); returns its distance if so.
+    #[inline(always)]
+    fn closer(&mut self, other: Hit) -> Option<f32> {
+        let take = other.t < self.t
+            || (other.t == self.t && self.triangle != u32::MAX && other.triangle < self.triangle);
+        take.then(|| {
+            *self = other;
+            other.t
+        })
+    }
+}
+
+/// A bounding volume hierarchy over triangles.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    /// The 4-wide nodes, the root first (none for no triangles).
+    nodes: Vec<Node4>,
+    /// The most entries a walk's stack can hold: four per level of the tree.
+    stack: usize,
+    tris: Vec<Tri>,
+    /// Input triangle index of each leaf-ordered triangle.
+    order: Vec<u32>,
+}
+
+impl Bvh {
+    /// Number of triangles.
+    pub fn len(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// True when there are no triangles.
+    pub fn is_empty(&self) -> bool {
+        self.tris.is_empty()
+    }
+
+    /// The triangles by slot (leaf order).
+    pub(crate) fn slots(&self) -> &[Tri] {
+        &self.tris
+    }
+
+    /// The input index of the triangle in `slot`.
+    #[inline]
+    pub(crate) fn triangle(&self, slot: u32) -> u32 {
+        self.order[slot as usize]
+    }
+
+    /// The closest hit along `origin + t·dir` with `t` in (0, `t_max`); `dir` must be unit length.
+    #[inline]
+    pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
+        self.cast_packet(origin, &[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]])[0][0]
+    }
+
+    /// The closest hits of a packet of rays from one origin (camera pixels, or shadow rays from
+    /// one light), `G` groups of four, traced together through the tree: each node's boxes are
+    /// tested once for the whole packet, each triangle against four rays at once. Lanes with
+    /// `t_max <= 0` are idle. Each lane gets exactly what [`Bvh::cast`] gives its ray.
+    pub fn cast_packet<const G: usize>(
+        &self,
+        origin: Vec3,
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [[Option<Hit>; 4]; G] {
+        let none = Hit {
+            t: 0.0,
+            triangle: u32::MAX,
+            u: 0.0,
+            v: 0.0,
+        };
+        let mut best = [[none; 4]; G];
+        let mut limit = [[0.0; 4]; G];
+        for (g, k) in lanes::<G>() {
+            (best[g][k].t, limit[g][k]) = (t_max[g][k], t_max[g][k].next_up());
+        }
+        let rays = Rays4::packet(origin, dirs, t_max);
+        self.walk(origin, &rays, t_max, |g, mask, slot, reach| {
+            let limit = &mut limit[g];
+            let best = &mut best[g];
+            rays[g].hits(
+                &self.tris[slot as usize],
+                mask,
+                *limit,
+                |lane, (t, u, v)| {
+                    let hit = Hit {
+                        t,
+                        triangle: slot,
+                        u,
+                        v,
+                    };
+                    if let Some(t) = best[lane].closer(hit) {
+                        reach[lane] = t;
+                        limit[lane] = t.next_up();
+                    }
+                },
+            );
+        });
+        let mut hits = [[None; 4]; G];
+        for (hits, best) in hits.iter_mut().zip(&best) {
+            for (hit, b) in hits.iter_mut().zip(best) {
+                if b.triangle != u32::MAX {
+                    *hit = Some(Hit {
+                        triangle: self.triangle(b.triangle),
+                        ..*b
+                    });
+                }
+            }
+        }
+        hits
+    }
+
+    /// Whether anything lies on `origin + t·dir` for `t` in (0, `t_max`).
+    #[inline]
+    pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+        self.occluded_packet(origin, &[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]])[0][0]
+    }
+
+    /// [`Bvh::occluded`] for a packet of rays from one origin, `G` groups of four, traced
+    /// together; lanes with `t_max <= 0` are idle (and not occluded). A lane stops at its first
+    /// hit.
+    pub fn occluded_packet<const G: usize>(
+        &self,
+        origin: Vec3,
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [[bool; 4]; G] {
+        let rays = Rays4::packet(origin, dirs, t_max);
+        let mut blocked = [[false; 4]; G];
+        self.walk(origin, &rays, t_max, |g, mask, slot, reach| {
+            let blocked = &mut blocked[g];
+            rays[g].hits(&self.tris[slot as usize], mask, t_max[g], |lane, _| {
+                blocked[lane] = true;
+                reach[lane] = -1.0; // done: the lane enters no more boxes
+            });
+        });
+        blocked
+    }
+
+    /// (nodes visited, triangles tested) along a ray: traversal cost, for diagnostics.
+    pub fn cost(&self, origin: Vec3, dir: Vec3, t_max: f32) -> (u32, u32) {
+        let (dirs, t_max) = (&[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]]);
+        let rays = Rays4::packet(origin, dirs, t_max);
+        let mut leaves = 0;
+        let mut limit = t_max[0].map(f32::next_up);
+        let nodes = self.walk(origin, &rays, t_max, |_, mask, slot, reach| {
+            leaves += 1;
+            rays[0].hits(&self.tris[slot as usize], mask, limit, |lane, (t, ..)| {
+                reach[lane] = t;
+                limit[lane] = t.next_up();
+            });
+        });
+        (nodes, leaves)
+    }
+}

@@ -1,0 +1,253 @@
+//! Walking the tree with a packet of rays from one origin: each node's four boxes tested once
+//! for the packet against the cone its rays span, nearest child first, on a short stack.
+
+use glam::{BVec4A, Vec3, Vec4};
+
+use super::triangle::{Rays4, WIDEN};
+use super::{Bvh, EMPTY, LEAF, Node4};
+
+/// Traversal stack entries kept on the call stack: parry's trees of a few million triangles are
+/// well under 20 four-wide levels deep, and a walk holds at most four entries per level.
+const STACK: usize = 128;
+
+impl Bvh {
+    /// The walk of a packet: visits each node once for the whole packet, testing its four boxes
+    /// at once against the cone the rays span (interval arithmetic over their inverse
+    /// directions, a superset of what each ray enters); `leaf(group, lanes, slot, reach)` tests
+    /// a leaf's triangle for the lanes (bit mask) of a group still searching and lowers their
+    /// `reach` on hits (a `reach` of 0 or less ends a lane). Returns the number of nodes visited.
+    #[inline(always)]
+    pub(super) fn walk<const G: usize>(
+        &self,
+        origin: Vec3,
+        rays: &[Rays4; G],
+        t_max: &[[f32; 4]; G],
+        mut leaf: impl FnMut(usize, u32, u32, &mut [f32; 4]),
+    ) -> u32 {
+        let mut reach = t_max.map(|t| t.map(|t| if t > 0.0 { t } else { -1.0 }));
+        let mut lanes = reach.map(live_lanes);
+        if self.nodes.is_empty() || lanes.iter().all(|&l| l == 0) {
+            return 0;
+        }
+        let all = rays.iter().map(|r| r.inv).reduce(InvRange::union);
+        let cone = Cone::new(origin, all.expect("a packet has a group"));
+        // each group's own cone decides which leaves its rays test
+        let groups: [Cone; G] = std::array::from_fn(|g| Cone::new(origin, rays[g].inv));
+        let furthest = |reach: &[[f32; 4]; G]| {
+            reach.iter().fold(f32::NEG_INFINITY, |m, r| {
+                m.max(Vec4::from(*r).max_element())
+            })
+        };
+        let mut reach_all = furthest(&reach);
+        // on the call stack for any tree a real mesh gives, on the heap beyond
+        let (mut inline, mut heap) = ([(0, 0.0); STACK], Vec::new());
+        let items: &mut [(u32, f32)] = if self.stack <= STACK {
+            &mut inline
+        } else {
+            heap.resize(self.stack, (0, 0.0));
+            &mut heap
+        };
+        let mut stack = Stack { items, len: 0 };
+        let mut cur = 0;
+        let mut visited = 0;
+        loop {
+            visited += 1;
+            let n = &self.nodes[cur as usize];
+            let (mut mask, near) = cone.enters(n, reach_all);
+            let base = stack.len;
+            let mut leaves = 0;
+            while mask != 0 {
+                let c = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let code = n.child[c];
+                if code & LEAF == 0 {
+                    stack.push_sorted(base, code, near[c]);
+                } else if code != EMPTY {
+                    leaves |= 1 << c;
+                }
+            }
+            if leaves != 0 {
+                for g in 0..G {
+                    if lanes[g] == 0 {
+                        continue;
+                    }
+                    let mut tested = if G == 1 {
+                        leaves
+                    } else {
+                        let reach = Vec4::from(reach[g]).max_element();
+                        groups[g].enters(n, reach).0 & leaves
+                    };
+                    while tested != 0 && lanes[g] != 0 {
+                        let c = tested.trailing_zeros() as usize;
+                        tested &= tested - 1;
+                        leaf(g, lanes[g], n.child[c] & !LEAF, &mut reach[g]);
+                        lanes[g] = live_lanes(reach[g]);
+                    }
+                }
+                if lanes.iter().all(|&l| l == 0) {
+                    return visited;
+                }
+                reach_all = furthest(&reach);
+            }
+            match stack.pop_within(reach_all * WIDEN.x) {
+                Some(code) => cur = code,
+                None => return visited,
+            }
+        }
+    }
+}
+
+/// Every (group, lane) of a packet of `G` groups of four rays.
+pub(crate) fn lanes<const G: usize>() -> impl Iterator<Item = (usize, usize)> {
+    // one flat range: a flat_map's nested state costs more than the work in some loops
+    (0..4 * G).map(|i| (i / 4, i % 4))
+}
+
+/// The lanes (bit mask) whose reach or `t_max` is positive.
+#[inline(always)]
+pub(super) fn live_lanes(reach: [f32; 4]) -> u32 {
+    Vec4::from(reach).cmpgt(Vec4::ZERO).bitmask()
+}
+
+/// The cone spanned by a packet of rays from one origin, as the range of their inverse
+/// direction components per axis: a box test against it admits every box any of the rays
+/// enters (products are monotonic in the inverse direction, rounding included).
+struct Cone {
+    axes: [ConeAxis; 3],
+}
+
+/// One axis of a [`Cone`].
+struct ConeAxis {
+    /// The origin's coordinate (splat).
+    origin: Vec4,
+    /// Smallest and largest inverse direction component (splats).
+    inv_lo: Vec4,
+    inv_hi: Vec4,
+    /// Which of a node's bounds the rays meet first and last (index into `Node4::bounds`).
+    near: usize,
+    far: usize,
+}
+
+/// The smallest and largest inverse direction component per axis of some rays (none: the
+/// empty range, +∞ to -∞).
+#[derive(Clone, Copy)]
+pub(super) struct InvRange {
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl InvRange {
+    /// The range of the rays in `lanes` (a bit mask), given their direction components per
+    /// axis as lanes.
+    #[inline(always)]
+    pub(super) fn of(d: &[Vec4; 3], lanes: u32) -> InvRange {
+        let live = BVec4A::new(
+            lanes & 1 != 0,
+            lanes & 2 != 0,
+            lanes & 4 != 0,
+            lanes & 8 != 0,
+        );
+        let [(xl, xh), (yl, yh), (zl, zh)] = d.map(|c| {
+            let tiny = c.abs().cmplt(Vec4::splat(TINY));
+            let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
+            (
+                Vec4::select(live, inv, Vec4::INFINITY).min_element(),
+                Vec4::select(live, inv, Vec4::NEG_INFINITY).max_element(),
+            )
+        });
+        InvRange {
+            lo: Vec3::new(xl, yl, zl),
+            hi: Vec3::new(xh, yh, zh),
+        }
+    }
+
+    fn union(self, other: InvRange) -> InvRange {
+        InvRange {
+            lo: self.lo.min(other.lo),
+            hi: self.hi.max(other.hi),
+        }
+    }
+}
+
+impl Cone {
+    /// The cone of rays from `origin` with inverse directions in `range`.
+    #[inline(always)]
+    fn new(origin: Vec3, range: InvRange) -> Cone {
+        // rays both ways along an axis: the origin at -∞ makes it admit every finite box
+        let both = range.lo.cmplt(Vec3::ZERO) & range.hi.cmpgt(Vec3::ZERO);
+        let o = Vec3::select(both, Vec3::NEG_INFINITY, origin).to_array();
+        let lo = Vec3::select(both, Vec3::NEG_ONE, range.lo).to_array();
+        let hi = Vec3::select(both, Vec3::ONE, range.hi).to_array();
+        let backwards = range.hi.cmplt(Vec3::ZERO).bitmask();
+        let axes = std::array::from_fn(|axis| {
+            let (near, far) = if backwards & (1 << axis) != 0 {
+                (axis + 3, axis)
+            } else {
+                (axis, axis + 3)
+            };
+            ConeAxis {
+                origin: Vec4::splat(o[axis]),
+                inv_lo: Vec4::splat(lo[axis]),
+                inv_hi: Vec4::splat(hi[axis]),
+                near,
+                far,
+            }
+        });
+        Cone { axes }
+    }
+
+    /// The children of `n` some ray of the cone enters before `reach` (bit mask), and the
+    /// nearest entry distance per child.
+    #[inline(always)]
+    fn enters(&self, n: &Node4, reach: f32) -> (u32, [f32; 4]) {
+        let mut near = Vec4::ZERO;
+        let mut far = Vec4::splat(reach);
+        for a in &self.axes {
+            let d_near = n.bounds[a.near] - a.origin;
+            let d_far = n.bounds[a.far] - a.origin;
+            near = near.max((d_near * a.inv_lo).min(d_near * a.inv_hi));
+            far = far.min((d_far * a.inv_lo).max(d_far * a.inv_hi));
+        }
+        (near.cmple(far * WIDEN).bitmask(), near.to_array())
+    }
+}
+
+/// Direction components smaller than this are nudged to it (keeping their sign): 0·∞ would
+/// poison box tests with NaN.
+const TINY: f32 = 1e-20;
+
+/// The nodes a walk has yet to visit, with their entry distances, the nearest on top, in
+/// storage of the size the tree needs.
+struct Stack<'a> {
+    items: &'a mut [(u32, f32)],
+    len: usize,
+}
+
+impl Stack<'_> {
+    /// Pushes a child of the node being visited, keeping the entries above `base` (its other
+    /// children) nearest on top.
+    #[inline(always)]
+    fn push_sorted(&mut self, base: usize, code: u32, t: f32) {
+        let mut j = self.len;
+        self.len += 1;
+        while j > base && self.items[j - 1].1 < t {
+            self.items[j] = self.items[j - 1];
+            j -= 1;
+        }
+        self.items[j] = (code, t);
+    }
+
+    /// The nearest pending node whose entry distance is within `reach`; `None` when the walk is
+    /// over.
+    #[inline(always)]
+    fn pop_within(&mut self, reach: f32) -> Option<u32> {
+        while self.len > 0 {
+            self.len -= 1;
+            let (code, t) = self.items[self.len];
+            if t <= reach {
+                return Some(code);
+            }
+        }
+        None
+    }
+}
