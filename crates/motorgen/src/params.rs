@@ -111,275 +111,235 @@ use Auto::*;
 use DefaultValue as D;
 use Kind::*;
 
-/// Every motor parameter, in sampling order (a parameter may depend on earlier ones).
-pub static PARAMS: &[ParamSpec] = &[
-    ParamSpec {
-        key: "type",
+/// Declares every parameter once: the typed field of [`MotorParams`] and its [`ParamSpec`] in
+/// [`PARAMS`] (key, accepted values, default, the add-on's distribution and the meaning, which
+/// is also the field's documentation), in sampling order.
+macro_rules! motor_params {
+    ($($field:ident: $ty:ty = $key:literal {
+        kind: $kind:expr,
+        default: $default:expr,
+        auto: $auto:expr,
+        doc: $doc:literal,
+    },)*) => {
+        /// One motor's parameters: the typed view of [`PARAMS`] (a field's serialised name is its
+        /// key).
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct MotorParams {
+            $(
+                #[doc = $doc]
+                #[serde(rename = $key)]
+                pub $field: $ty,
+            )*
+        }
+
+        /// Every motor parameter, in sampling order (a parameter may depend on earlier ones).
+        pub static PARAMS: &[ParamSpec] = &[$(ParamSpec {
+            key: $key,
+            kind: $kind,
+            default: $default,
+            auto: $auto,
+            doc: $doc,
+        },)*];
+    };
+}
+
+motor_params! {
+    motor_type: MotorType = "type" {
         kind: Enum(&["A", "B"]),
         default: D::Text("A"),
         auto: Full,
         doc: "Motor type: A has two gears (lower and upper), B one. Add-on: mf_Top_Type.",
     },
-    ParamSpec {
-        key: "extension_a",
+    extension_a: Extension = "extension_a" {
         kind: Enum(&["type1", "type2", "none"]),
         default: D::Text("type1"),
         auto: Full,
-        doc: "Cover extension shape of type A: one mounting eye (type1), two eyes (type2) or none. Add-on: mf_Extension_Type_A.",
+        doc: "Cover extension shape of type A: one mounting eye (type1), two eyes (type2) or \
+               none. Add-on: mf_Extension_Type_A.",
     },
-    ParamSpec {
-        key: "extension_b",
+    extension_b: Extension = "extension_b" {
         kind: Enum(&["type1", "none"]),
         default: D::Text("type1"),
         auto: Full,
         doc: "Cover extension shape of type B. Add-on: mf_Extension_Type_B.",
     },
-    ParamSpec {
-        key: "gearbox_orientation_deg",
-        kind: Int {
-            min: 0,
-            max: 270,
-            step: 90,
-        },
+    gearbox_orientation_deg: u32 = "gearbox_orientation_deg" {
+        kind: Int { min: 0, max: 270, step: 90 },
         default: D::Num(0.0),
         auto: Full,
-        doc: "Rotation of gear housings, cover and cover bolts about the motor axis, degrees. The add-on offered only 90-270 for A type2 and its datasets never varied it; every value is valid here. Add-on: mf_Gear_Orientation_1/_2.",
+        doc: "Rotation of gear housings, cover and cover bolts about the motor axis, \
+               degrees. The add-on offered only 90-270 for A type2 and its datasets never \
+               varied it; every value is valid here. Add-on: mf_Gear_Orientation_1/_2.",
     },
-    ParamSpec {
-        key: "mirror",
+    mirror: bool = "mirror" {
         kind: Bool,
         default: D::Bool(false),
         auto: Full,
         doc: "Mirror the gearbox to the other side of the motor axis. Add-on: mf_Mirror.",
     },
-    ParamSpec {
-        key: "pole_pot_length",
-        kind: Real {
-            min: 0.062,
-            max: 0.082,
-        },
+    pole_pot_length: f32 = "pole_pot_length" {
+        kind: Real { min: 0.062, max: 0.082 },
         default: D::Num(0.068),
         auto: Range(0.062, 0.08),
-        doc: "Pole-pot length along the motor axis, m. The add-on's property limits (its README and scripts said 4-8 cm, which Blender clamped). Add-on: mf_Bottom_Length.",
+        doc: "Pole-pot length along the motor axis, m. The add-on's property limits (its \
+               README and scripts said 4-8 cm, which Blender clamped). Add-on: \
+               mf_Bottom_Length.",
     },
-    ParamSpec {
-        key: "shaft_boss_length",
-        kind: Real {
-            min: 0.006,
-            max: 0.02,
-        },
+    shaft_boss_length: f32 = "shaft_boss_length" {
+        kind: Real { min: 0.006, max: 0.02 },
         default: D::Num(0.012),
         auto: Full,
         doc: "Length of the shaft boss under the pole pot, m. Add-on: mf_Sub_Bottom_Length.",
     },
-    ParamSpec {
-        key: "lower_gear_diameter",
-        kind: Real {
-            min: 0.035,
-            max: 0.045,
-        },
+    lower_gear_diameter: f32 = "lower_gear_diameter" {
+        kind: Real { min: 0.035, max: 0.045 },
         default: D::Num(0.04),
         auto: Full,
-        doc: "Outer diameter of the lower (A) or only (B) gear housing, m. Add-on: mf_Lower_Gear_Dia.",
+        doc: "Outer diameter of the lower (A) or only (B) gear housing, m. Add-on: \
+               mf_Lower_Gear_Dia.",
     },
-    ParamSpec {
-        key: "lower_gear_position",
-        kind: Real {
-            min: 0.036,
-            max: 0.042,
-        },
+    lower_gear_position: f32 = "lower_gear_position" {
+        kind: Real { min: 0.036, max: 0.042 },
         default: D::Num(0.036),
         auto: Full,
-        doc: "Height of the lower (or only) gear centre above the pole-pot top, m. Add-on: mf_Lower_Gear_Position.",
+        doc: "Height of the lower (or only) gear centre above the pole-pot top, m. Add-on: \
+               mf_Lower_Gear_Position.",
     },
-    ParamSpec {
-        key: "upper_gear_diameter",
-        kind: Real {
-            min: 0.05,
-            max: 0.065,
-        },
+    upper_gear_diameter: f32 = "upper_gear_diameter" {
+        kind: Real { min: 0.05, max: 0.065 },
         default: D::Num(0.055),
         auto: Full,
-        doc: "Outer diameter of the upper gear housing (type A only), m. Add-on: mf_Upper_Gear_Dia.",
+        doc: "Outer diameter of the upper gear housing (type A only), m. Add-on: \
+               mf_Upper_Gear_Dia.",
     },
-    ParamSpec {
-        key: "type_b_height_1",
-        kind: Real {
-            min: 0.063,
-            max: 0.075,
-        },
+    type_b_height_1: f32 = "type_b_height_1" {
+        kind: Real { min: 0.063, max: 0.075 },
         default: D::Num(0.07),
         auto: Full,
-        doc: "Type B: height of the upper end of the gear-extension arm above the pole-pot top, m. The add-on's README range (1.7-4) and its script's U(6.3, 8) disagree with its property limits; these are the limits. Add-on: mf_Type_B_Height_1.",
+        doc: "Type B: height of the upper end of the gear-extension arm above the pole-pot \
+               top, m. The add-on's README range (1.7-4) and its script's U(6.3, 8) disagree \
+               with its property limits; these are the limits. Add-on: mf_Type_B_Height_1.",
     },
-    ParamSpec {
-        key: "type_b_height_2",
-        kind: Real {
-            min: 0.03,
-            max: 0.06,
-        },
+    type_b_height_2: f32 = "type_b_height_2" {
+        kind: Real { min: 0.03, max: 0.06 },
         default: D::Num(0.035),
         auto: Full,
-        doc: "Type B: height of the lower end of the gear-extension arm above the pole-pot top, m. Add-on: mf_Type_B_Height_2.",
+        doc: "Type B: height of the lower end of the gear-extension arm above the pole-pot \
+               top, m. Add-on: mf_Type_B_Height_2.",
     },
-    ParamSpec {
-        key: "type_b_right_bolt_height",
-        kind: Real {
-            min: 0.017,
-            max: 0.04,
-        },
+    type_b_right_bolt_height: f32 = "type_b_right_bolt_height" {
+        kind: Real { min: 0.017, max: 0.04 },
         default: D::Num(0.025),
         auto: Full,
-        doc: "Type B: height of the cover bolt beside the brush tower above the pole-pot top, m. Add-on: mf_Gear_Bolt_Right_B.",
+        doc: "Type B: height of the cover bolt beside the brush tower above the pole-pot \
+               top, m. Add-on: mf_Gear_Bolt_Right_B.",
     },
-    ParamSpec {
-        key: "teeth_inclination_deg",
-        kind: Real {
-            min: -20.0,
-            max: 20.0,
-        },
+    teeth_inclination_deg: f32 = "teeth_inclination_deg" {
+        kind: Real { min: -20.0, max: 20.0 },
         default: D::Num(10.0),
         auto: Full,
-        doc: "Inclination (shear) of the inner gears' teeth, degrees. Add-on: mf_Teeth_Inclination.",
+        doc: "Inclination (shear) of the inner gears' teeth, degrees. Add-on: \
+               mf_Teeth_Inclination.",
     },
-    ParamSpec {
-        key: "bolt_drive",
+    bolt_drive: BoltDrive = "bolt_drive" {
         kind: Enum(&["torx", "slot", "cross", "allen"]),
         default: D::Text("torx"),
         auto: Full,
         doc: "Screw drive of every bolt head. Add-on: mf_Bit_Type.",
     },
-    ParamSpec {
-        key: "bolt_orientation",
+    bolt_orientation: BoltOrientation = "bolt_orientation" {
         kind: Enum(&["same", "random"]),
         default: D::Text("same"),
         auto: Full,
-        doc: "Rotation of the drive about each screw axis: all bolts at bolt_rotation_deg (same) or each its own angle drawn from bolt_seed (random). Add-on: mf_Bolt_Orientation.",
+        doc: "Rotation of the drive about each screw axis: all bolts at bolt_rotation_deg \
+               (same) or each its own angle drawn from bolt_seed (random). Add-on: \
+               mf_Bolt_Orientation.",
     },
-    ParamSpec {
-        key: "bolt_rotation_deg",
-        kind: Real {
-            min: 0.0,
-            max: 360.0,
-        },
+    bolt_rotation_deg: f32 = "bolt_rotation_deg" {
+        kind: Real { min: 0.0, max: 360.0 },
         default: D::Num(0.0),
         auto: Full,
         doc: "Drive rotation of every bolt when bolt_orientation = \"same\", degrees.",
     },
-    ParamSpec {
-        key: "bolt_seed",
-        kind: Int {
-            min: 0,
-            max: 4_294_967_295,
-            step: 1,
-        },
+    bolt_seed: u32 = "bolt_seed" {
+        kind: Int { min: 0, max: 4_294_967_295, step: 1 },
         default: D::Num(0.0),
         auto: Full,
-        doc: "Seed of the per-bolt drive rotations when bolt_orientation = \"random\" (whole degrees 0-359, as the add-on).",
+        doc: "Seed of the per-bolt drive rotations when bolt_orientation = \"random\" (whole \
+               degrees 0-359, as the add-on).",
     },
-    ParamSpec {
-        key: "lower_bolt_1_deg",
-        kind: Real {
-            min: 190.0,
-            max: 230.0,
-        },
+    lower_bolt_1_deg: f32 = "lower_bolt_1_deg" {
+        kind: Real { min: 190.0, max: 230.0 },
         default: D::Num(200.0),
         auto: Full,
-        doc: "Type A: angle of the first lower-gear cover bolt about the gear centre, degrees from the gearbox's +x towards the motor's +z. Add-on: mf_Lower_Gear_Bolt_Position_1.",
+        doc: "Type A: angle of the first lower-gear cover bolt about the gear centre, \
+               degrees from the gearbox's +x towards the motor's +z. Add-on: \
+               mf_Lower_Gear_Bolt_Position_1.",
     },
-    ParamSpec {
-        key: "lower_bolt_2_deg",
-        kind: Real {
-            min: 310.0,
-            max: 350.0,
-        },
+    lower_bolt_2_deg: f32 = "lower_bolt_2_deg" {
+        kind: Real { min: 310.0, max: 350.0 },
         default: D::Num(320.0),
         auto: Full,
-        doc: "Type A: angle of the second lower-gear cover bolt, degrees. The add-on's property allowed 320-350 and its random mode 310-350; this is the union. Add-on: mf_Lower_Gear_Bolt_Position_2.",
+        doc: "Type A: angle of the second lower-gear cover bolt, degrees. The add-on's \
+               property allowed 320-350 and its random mode 310-350; this is the union. \
+               Add-on: mf_Lower_Gear_Bolt_Position_2.",
     },
-    ParamSpec {
-        key: "upper_bolt_count",
-        kind: Int {
-            min: 1,
-            max: 3,
-            step: 1,
-        },
+    upper_bolt_count: u32 = "upper_bolt_count" {
+        kind: Int { min: 1, max: 3, step: 1 },
         default: D::Num(2.0),
         auto: List(&[1.0, 2.0, 2.0, 3.0]),
-        doc: "Type A: number of cover bolts round the upper gear. Add-on: mf_Upper_Bolt_Nummber; auto as SynMotor (1, 2, 2, 3).",
+        doc: "Type A: number of cover bolts round the upper gear. Add-on: \
+               mf_Upper_Bolt_Nummber; auto as SynMotor (1, 2, 2, 3).",
     },
-    ParamSpec {
-        key: "upper_bolt_1_deg",
-        kind: Real {
-            min: 0.0,
-            max: 210.0,
-        },
+    upper_bolt_1_deg: f32 = "upper_bolt_1_deg" {
+        kind: Real { min: 0.0, max: 210.0 },
         default: D::Num(13.0),
         auto: UpperBolt(1),
-        doc: "Type A: angle of upper-gear cover bolt 1 on the 0-210° arc, degrees. Used bolts must increase by at least 10°. Add-on: mf_Upper_Gear_Bolt_Position_*.",
+        doc: "Type A: angle of upper-gear cover bolt 1 on the 0-210° arc, degrees. Used \
+               bolts must increase by at least 10°. Add-on: mf_Upper_Gear_Bolt_Position_*.",
     },
-    ParamSpec {
-        key: "upper_bolt_2_deg",
-        kind: Real {
-            min: 0.0,
-            max: 210.0,
-        },
+    upper_bolt_2_deg: f32 = "upper_bolt_2_deg" {
+        kind: Real { min: 0.0, max: 210.0 },
         default: D::Num(110.0),
         auto: UpperBolt(2),
-        doc: "Type A: angle of upper-gear cover bolt 2, degrees (the add-on's default 100 lay below its own minimum 110).",
+        doc: "Type A: angle of upper-gear cover bolt 2, degrees (the add-on's default 100 \
+               lay below its own minimum 110).",
     },
-    ParamSpec {
-        key: "upper_bolt_3_deg",
-        kind: Real {
-            min: 0.0,
-            max: 210.0,
-        },
+    upper_bolt_3_deg: f32 = "upper_bolt_3_deg" {
+        kind: Real { min: 0.0, max: 210.0 },
         default: D::Num(200.0),
         auto: UpperBolt(3),
         doc: "Type A: angle of upper-gear cover bolt 3, degrees.",
     },
-    ParamSpec {
-        key: "b_bolt_count",
-        kind: Int {
-            min: 2,
-            max: 3,
-            step: 1,
-        },
+    b_bolt_count: u32 = "b_bolt_count" {
+        kind: Int { min: 2, max: 3, step: 1 },
         default: D::Num(2.0),
         auto: Full,
-        doc: "Type B: cover bolts round the gear (the bolt beside the tower comes on top). Add-on: mf_Gear_Bolt_Nummber_B, whose script always drew 2.",
+        doc: "Type B: cover bolts round the gear (the bolt beside the tower comes on top). \
+               Add-on: mf_Gear_Bolt_Nummber_B, whose script always drew 2.",
     },
-    ParamSpec {
-        key: "b_bolt_1_deg",
-        kind: Real {
-            min: 210.0,
-            max: 225.0,
-        },
+    b_bolt_1_deg: f32 = "b_bolt_1_deg" {
+        kind: Real { min: 210.0, max: 225.0 },
         default: D::Num(215.0),
         auto: Full,
-        doc: "Type B: angle of gear bolt 1 about the gear centre, degrees from the gearbox's +y towards +z. Add-on: mf_Gear_Bolt_Position_B_1.",
+        doc: "Type B: angle of gear bolt 1 about the gear centre, degrees from the gearbox's \
+               +y towards +z. Add-on: mf_Gear_Bolt_Position_B_1.",
     },
-    ParamSpec {
-        key: "b_bolt_2_deg",
-        kind: Real {
-            min: 70.0,
-            max: 110.0,
-        },
+    b_bolt_2_deg: f32 = "b_bolt_2_deg" {
+        kind: Real { min: 70.0, max: 110.0 },
         default: D::Num(90.0),
         auto: Full,
         doc: "Type B: angle of gear bolt 2, degrees. Add-on: mf_Gear_Bolt_Position_B_2.",
     },
-    ParamSpec {
-        key: "b_bolt_3_deg",
-        kind: Real {
-            min: 130.0,
-            max: 190.0,
-        },
+    b_bolt_3_deg: f32 = "b_bolt_3_deg" {
+        kind: Real { min: 130.0, max: 190.0 },
         default: D::Num(180.0),
         auto: Full,
-        doc: "Type B: angle of gear bolt 3 (when b_bolt_count = 3), degrees. Add-on: mf_Gear_Bolt_Position_B_3.",
+        doc: "Type B: angle of gear bolt 3 (when b_bolt_count = 3), degrees. Add-on: \
+               mf_Gear_Bolt_Position_B_3.",
     },
-];
+}
 
 /// The spec of `key`, if it is a parameter.
 pub fn spec(key: &str) -> Option<&'static ParamSpec> {
@@ -496,43 +456,6 @@ pub enum BoltOrientation {
     Same,
     /// Each its own whole-degree angle from `bolt_seed`.
     Random,
-}
-
-/// One motor's parameters: the typed view of [`PARAMS`] (field names are the keys; see there for
-/// units, ranges and add-on names).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-#[allow(missing_docs)]
-pub struct MotorParams {
-    #[serde(rename = "type")]
-    pub motor_type: MotorType,
-    pub extension_a: Extension,
-    pub extension_b: Extension,
-    pub gearbox_orientation_deg: u32,
-    pub mirror: bool,
-    pub pole_pot_length: f32,
-    pub shaft_boss_length: f32,
-    pub lower_gear_diameter: f32,
-    pub lower_gear_position: f32,
-    pub upper_gear_diameter: f32,
-    pub type_b_height_1: f32,
-    pub type_b_height_2: f32,
-    pub type_b_right_bolt_height: f32,
-    pub teeth_inclination_deg: f32,
-    pub bolt_drive: BoltDrive,
-    pub bolt_orientation: BoltOrientation,
-    pub bolt_rotation_deg: f32,
-    pub bolt_seed: u32,
-    pub lower_bolt_1_deg: f32,
-    pub lower_bolt_2_deg: f32,
-    pub upper_bolt_count: u32,
-    pub upper_bolt_1_deg: f32,
-    pub upper_bolt_2_deg: f32,
-    pub upper_bolt_3_deg: f32,
-    pub b_bolt_count: u32,
-    pub b_bolt_1_deg: f32,
-    pub b_bolt_2_deg: f32,
-    pub b_bolt_3_deg: f32,
 }
 
 impl Default for MotorParams {

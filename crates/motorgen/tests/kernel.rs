@@ -153,7 +153,26 @@ fn tube_from_a_profile_loop() {
         ],
     );
     assert_solid(&tube, 1);
-    assert!(tube.signed_volume() > 0.0);
+    // the ring between the outline at u = 0 and at u = -2 mm, 1 cm tall
+    let area = |u: f32| {
+        let ring = s.ring(u);
+        let n = ring.len();
+        (0..n)
+            .map(|i| ring[i].perp_dot(ring[(i + 1) % n]) as f64)
+            .sum::<f64>()
+            / 2.0
+    };
+    let want = (area(0.0) - area(-0.002)) * 0.01;
+    assert!(
+        close(tube.signed_volume(), want, 1e-4),
+        "{} vs {want}",
+        tube.signed_volume()
+    );
+    let b = tube.bounds();
+    assert!(
+        (b.max - Vec3::new(0.015, 0.02, 0.01)).abs().max_element() < 1e-6,
+        "{b:?}"
+    );
 }
 
 #[test]

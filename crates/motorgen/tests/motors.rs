@@ -402,22 +402,54 @@ fn every_drive_builds_a_distinct_recess() {
 
 #[test]
 fn exploded_view_moves_parts_apart() {
-    let m = build(&MotorParams::default(), Detail::Coarse);
-    let e = m.exploded(1.0);
-    let pot = |m: &Motor| m.parts[0].mesh.bounds().max.z;
-    assert!(pot(&e) < pot(&m) - 0.05);
-    let cover = |m: &Motor| {
-        m.parts
-            .iter()
-            .find(|p| p.kind == PartKind::Cover)
-            .unwrap()
-            .mesh
-            .bounds()
-            .centre()
+    // summed volume of the pairwise overlaps of the parts' boxes
+    let overlap = |m: &Motor| {
+        let boxes: Vec<_> = m.parts.iter().map(|p| p.mesh.bounds()).collect();
+        let mut sum = 0.0;
+        for (i, a) in boxes.iter().enumerate() {
+            for b in &boxes[i + 1..] {
+                let e = (a.max.min(b.max) - a.min.max(b.min)).max(Vec3::ZERO);
+                sum += e.x * e.y * e.z;
+            }
+        }
+        sum
     };
-    // cover moves out along its gear axis (-y at r0)
-    assert!((cover(&e) - cover(&m)).dot(Vec3::NEG_Y) > 0.04);
-    assert_eq!(m.exploded(0.0).parts, m.parts);
+    for params in [
+        MotorParams::default(),
+        params(&[("type", Value::Text("B".into()))]),
+    ] {
+        let m = build(&params, Detail::Coarse);
+        assert_eq!(m.exploded(0.0).parts, m.parts);
+        // each part moves by its own offset, in proportion to the factor
+        for f in [0.5, 1.0] {
+            for (a, b) in m.parts.iter().zip(&m.exploded(f).parts) {
+                let shift = b.mesh.bounds().min - a.mesh.bounds().min;
+                assert!(
+                    (shift - a.explode * f).abs().max_element() < 1e-6,
+                    "{}",
+                    a.name
+                );
+                assert_eq!(a.mesh.triangles, b.mesh.triangles);
+            }
+        }
+        // every part but the gear container, which the others leave, moves out by a centimetre
+        // or more, and the parts' boxes overlap far less than assembled
+        let still: Vec<&str> = m
+            .parts
+            .iter()
+            .filter(|p| p.explode.length() < 0.01)
+            .map(|p| p.name.as_str())
+            .collect();
+        assert_eq!(still, ["gear_container"]);
+        assert!(overlap(&m.exploded(1.0)) < 0.25 * overlap(&m));
+    }
+    // the cover moves out along its gear axis (-y at orientation 0)
+    let m = build(&MotorParams::default(), Detail::Coarse);
+    let cover = |m: &Motor| {
+        let p = m.parts.iter().find(|p| p.kind == PartKind::Cover).unwrap();
+        p.mesh.bounds().centre()
+    };
+    assert!((cover(&m.exploded(1.0)) - cover(&m)).dot(Vec3::NEG_Y) > 0.04);
 }
 
 #[test]
