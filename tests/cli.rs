@@ -1,15 +1,15 @@
 //! The motorfactory binary end to end: outputs, exit codes, nothing written on bad input, and
 //! the same bytes for any thread count.
 
-use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+use kit::{files_below, motorfactory};
+
+mod kit;
 
 fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_motorfactory"))
-        .args(args)
-        .output()
-        .unwrap()
+    motorfactory().args(args).output().unwrap()
 }
 
 fn stderr(o: &Output) -> String {
@@ -38,26 +38,6 @@ fn coarse_motor(parent: &Path, args: &[&str]) -> std::path::PathBuf {
     m
 }
 
-/// Every file below `dir`, by relative path.
-fn tree(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                out.insert(
-                    p.strip_prefix(dir).unwrap().display().to_string(),
-                    std::fs::read(&p).unwrap(),
-                );
-            }
-        }
-    }
-    out
-}
-
 #[test]
 fn motor_with_settings_writes_meshes_and_ground_truth() {
     let dir = tempfile::tempdir().unwrap();
@@ -76,7 +56,7 @@ fn motor_with_settings_writes_meshes_and_ground_truth() {
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let files = tree(&out);
+    let files = files_below(&out);
     for f in [
         "motor.obj",
         "motor.glb",
@@ -210,7 +190,7 @@ fn motors_are_identical_for_any_thread_count() {
             out.to_str().unwrap(),
         ]);
         assert!(o.status.success(), "{}", stderr(&o));
-        tree(&out)
+        files_below(&out)
     };
     let (one, two) = (go("1", "a"), go("2", "b"));
     assert_eq!(
@@ -315,7 +295,7 @@ fn scan_of_a_motor_keeps_its_labels() {
         out
     };
     let out = scan_to("s");
-    let files = tree(&out);
+    let files = files_below(&out);
     for f in [
         "cloud.ply",
         "cloud.pcd",
@@ -349,7 +329,7 @@ fn scan_of_a_motor_keeps_its_labels() {
     );
     // the same seed gives the same bytes
     let again = scan_to("s2");
-    assert!(tree(&again) == files);
+    assert!(files_below(&again) == files);
 }
 
 #[test]
@@ -539,7 +519,7 @@ fn scan_files_are_identical_for_one_and_two_threads() {
     let m = coarse_motor(dir.path(), &["--format", "ply", "--whole-only"]);
     let scan_with = |threads: &str| {
         let out = dir.path().join(format!("s{threads}"));
-        let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+        let o = motorfactory()
             .env("RAYON_NUM_THREADS", threads)
             .args([
                 "scan",
@@ -562,7 +542,7 @@ fn scan_files_are_identical_for_one_and_two_threads() {
             .output()
             .unwrap();
         assert!(o.status.success(), "{}", stderr(&o));
-        tree(&out)
+        files_below(&out)
     };
     let (one, two) = (scan_with("1"), scan_with("2"));
     assert_eq!(one.len(), 11); // 3 clouds, 7 images, scan.json

@@ -3,14 +3,18 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
 use glam::{Affine3A, Mat4, Vec3};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
 
+use kit::{files_below, motorfactory};
+
+mod kit;
+
 fn generate(out: &Path, extra: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+    motorfactory()
         .args(["generate", "--quiet", "--out"])
         .arg(out)
         .args(extra)
@@ -37,20 +41,9 @@ fn ok(o: &Output) {
 
 /// Every file below `dir` by relative path, manifests left out.
 fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(d).unwrap() {
-            let p = e.unwrap().path();
-            let name = p.strip_prefix(dir).unwrap().display().to_string();
-            if p.is_dir() {
-                stack.push(p);
-            } else if !name.starts_with("manifest") {
-                out.insert(name, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
+    let mut files = files_below(dir);
+    files.retain(|name, _| !name.starts_with("manifest"));
+    files
 }
 
 /// Manifest rows of every manifest in `dir`, sorted.
@@ -174,7 +167,7 @@ fn small_dataset_is_complete_labelled_cropped_and_listed() {
     assert!(config.contains("samples = 10"), "{config}");
     // the preview draws it
     let png = dir.path().join("sheet.png");
-    let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+    let o = motorfactory()
         .args(["preview", out.to_str().unwrap(), "--width", "96", "--out"])
         .arg(&png)
         .output()
@@ -216,7 +209,7 @@ fn killed_run_resumes_to_the_same_bytes() {
     ok(&generate(&whole, &args(&a)));
 
     let part = dir.path().join("part");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+    let mut child = motorfactory()
         .args(["generate", "--quiet", "--out"])
         .arg(&part)
         .args(args(&a))
@@ -334,7 +327,7 @@ fn bad_configurations_are_refused_and_write_nothing() {
 
 #[test]
 fn built_in_configs_print_and_sweeps_vary_their_key() {
-    let o = Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+    let o = motorfactory()
         .args(["config", "--print", "default"])
         .output()
         .unwrap();

@@ -21,8 +21,16 @@ fn png(
     writer.write_image_data(data).map_err(std::io::Error::other)
 }
 
-fn big_endian_16(values: impl Iterator<Item = u16>) -> Vec<u8> {
-    values.flat_map(u16::to_be_bytes).collect()
+/// A 16-bit grey PNG of one value per pixel (PNG stores them big-endian).
+fn grey16(w: &mut dyn Write, scan: &Scan, values: impl Iterator<Item = u16>) -> Result<()> {
+    let data: Vec<u8> = values.flat_map(u16::to_be_bytes).collect();
+    png(
+        w,
+        scan,
+        png::ColorType::Grayscale,
+        png::BitDepth::Sixteen,
+        &data,
+    )
 }
 
 /// 16-bit grey depth (camera z) in steps of [`DEPTH_PNG_METRES_PER_UNIT`]; `clean` uses the
@@ -32,21 +40,15 @@ fn big_endian_16(values: impl Iterator<Item = u16>) -> Vec<u8> {
 ///
 /// Any error of writing to `w`.
 pub fn write_depth_png(w: &mut dyn Write, scan: &Scan, clean: bool) -> Result<()> {
-    let data = big_endian_16(scan.pixels.iter().map(|p| {
+    let depth = scan.pixels.iter().map(|p| {
         let z = if clean { p.clean.z } else { p.point.z };
         if z.is_nan() {
             0
         } else {
             (z / DEPTH_PNG_METRES_PER_UNIT).round().clamp(1.0, 65535.0) as u16
         }
-    }));
-    png(
-        w,
-        scan,
-        png::ColorType::Grayscale,
-        png::BitDepth::Sixteen,
-        &data,
-    )
+    });
+    grey16(w, scan, depth)
 }
 
 /// 8-bit RGB normals, (n + 1) / 2 · 255 in the camera frame; black where nothing was hit.
@@ -77,20 +79,14 @@ pub fn write_normal_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
 ///
 /// Any error of writing to `w`.
 pub fn write_label_png(w: &mut dyn Write, scan: &Scan, instance: bool) -> Result<()> {
-    let data = big_endian_16(scan.pixels.iter().map(|p| {
+    let labels = scan.pixels.iter().map(|p| {
         if instance {
             p.instance.min(65535) as u16
         } else {
             p.class
         }
-    }));
-    png(
-        w,
-        scan,
-        png::ColorType::Grayscale,
-        png::BitDepth::Sixteen,
-        &data,
-    )
+    });
+    grey16(w, scan, labels)
 }
 
 /// 8-bit grey signal strength, clamped to 0..1; 0 where no point.

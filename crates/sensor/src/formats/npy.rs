@@ -76,24 +76,12 @@ pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
             .map_err(std::io::Error::other)?;
         body(&mut zip)
     };
-    entry("xyz", &|w| {
-        array(
-            w,
-            "<f4",
-            &[n, 3],
-            c.xyz.iter().flat_map(|p| p.to_array()),
-            f32::to_le_bytes,
-        )
-    })?;
-    entry("normal", &|w| {
-        array(
-            w,
-            "<f4",
-            &[n, 3],
-            c.normal.iter().flat_map(|p| p.to_array()),
-            f32::to_le_bytes,
-        )
-    })?;
+    let vectors = |w: &mut dyn Write, v: &[glam::Vec3]| {
+        let components = v.iter().flat_map(|p| p.to_array());
+        array(w, "<f4", &[n, 3], components, f32::to_le_bytes)
+    };
+    entry("xyz", &|w| vectors(w, &c.xyz))?;
+    entry("normal", &|w| vectors(w, &c.normal))?;
     entry("intensity", &|w| {
         array(
             w,

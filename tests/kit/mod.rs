@@ -1,0 +1,28 @@
+//! What the CLI tests share: the binary, and a folder's files.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::Command;
+
+/// The `motorfactory` binary built for these tests.
+pub fn motorfactory() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+}
+
+/// Every file below `dir`, by path relative to it, with its bytes.
+pub fn files_below(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let name = p.strip_prefix(dir).unwrap().display().to_string();
+                out.insert(name, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
