@@ -5,13 +5,11 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::{Affine3A, Mat4, Vec3};
-use motorgen::Scheme;
 use motorgen::export::write_atomic;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::DefaultElement;
 use scene::preview::{Image, contact_sheet, render};
-use sensor::{Frame, Intrinsics, Units};
-use serde::Deserialize;
+use scene::{Row, SampleJson};
 
 use crate::error::{CliError, CliResult};
 use crate::meshio::number;
@@ -31,34 +29,6 @@ pub struct PreviewCmd {
     /// Samples on a contact sheet.
     #[arg(long, default_value_t = 16)]
     count: usize,
-}
-
-/// What a preview needs from a sample's JSON.
-#[derive(Deserialize)]
-struct SampleDoc {
-    sensor: SensorDoc,
-    frame: Frame,
-    units: Units,
-    scheme: Scheme,
-    views: Vec<ViewDoc>,
-}
-
-#[derive(Deserialize)]
-struct SensorDoc {
-    intrinsics: Intrinsics,
-}
-
-#[derive(Deserialize)]
-struct ViewDoc {
-    camera_to_world: [[f32; 4]; 4],
-    files: Vec<String>,
-}
-
-/// A manifest row's JSON path.
-#[derive(Deserialize)]
-struct RowDoc {
-    index: u64,
-    json: String,
 }
 
 impl PreviewCmd {
@@ -104,7 +74,7 @@ fn first_samples(dir: &Path, count: usize) -> CliResult<Vec<PathBuf>> {
             let text = std::fs::read_to_string(&path).map_err(|e| bad(e.to_string()))?;
             rows.extend(
                 text.lines()
-                    .filter_map(|l| serde_json::from_str::<RowDoc>(l).ok()),
+                    .filter_map(|l| serde_json::from_str::<Row>(l).ok()),
             );
         }
     }
@@ -123,7 +93,7 @@ fn first_samples(dir: &Path, count: usize) -> CliResult<Vec<PathBuf>> {
 fn preview(json: &Path, width: u32) -> CliResult<Image> {
     let bad = |why: String| CliError::Usage(format!("sample {}: {why}", json.display()));
     let text = std::fs::read_to_string(json).map_err(|e| bad(e.to_string()))?;
-    let doc: SampleDoc = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    let doc: SampleJson = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
     let view = doc.views.first().ok_or_else(|| bad("no views".into()))?;
     let root = json
         .parent()

@@ -1,13 +1,13 @@
 //! What a built motor is: labelled parts with materials, and its ground truth.
 
 use glam::Vec3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::kernel::{Aabb, Mesh};
 use crate::params::{BoltDrive, MotorParams};
 
 /// Every kind of part the add-on builds, in build order (`kind as u8` is its index in [`PartKind::ALL`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PartKind {
     /// Pole pot (the add-on's "Bottom") with its shaft boss.

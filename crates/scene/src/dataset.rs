@@ -375,7 +375,9 @@ impl Dataset {
         }
         let json_rel = format!("{split}/{stem}.json");
         let doc = sample.json(recipe, &per_view);
-        save(&self.out.join(&json_rel), &|w| write_json(w, &doc))?;
+        save(&self.out.join(&json_rel), &|w| {
+            w.write_all(doc.to_text().as_bytes())
+        })?;
         Ok(Row {
             index: sample.index,
             split: split.into(),

@@ -36,6 +36,7 @@ pub mod dataset;
 mod error;
 mod fixture;
 pub mod preview;
+pub mod record;
 pub mod rig;
 pub mod sample;
 
@@ -44,6 +45,7 @@ pub use cell::{Cell, Object, Variation, compose};
 pub use config::{Config, Span, Variant, overlay, parse_value, set_key};
 pub use dataset::{Dataset, Row, Shard, Summary};
 pub use error::{Error, Result};
+pub use record::SampleJson;
 pub use sample::{Recipe, Sample, make};
 
 /// The default dataset configuration (`configs/default.toml`), built into the binary.

@@ -7,12 +7,12 @@ use motorgen::{Motor, ParamSpace, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
-use serde_json::json;
 
 use crate::augment::{Level, Split, assign};
 use crate::cell::{Cell, Variation, compose};
 use crate::config::{Config, CropConfig, Variant};
 use crate::error::Result;
+use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson};
 use crate::rig::camera_poses;
 
 thread_local! {
@@ -299,75 +299,60 @@ impl Sample {
         format!("{:06}_{variant}_{}", self.index, self.level.name())
     }
 
-    /// Ground truth and provenance as JSON: motor parameters and attributes (motor frame), motor,
-    /// fixture and camera poses, intrinsics, crop box, level, split and seeds.
-    pub fn json(&self, recipe: &Recipe, files: &[Vec<String>]) -> serde_json::Value {
+    /// Ground truth and provenance as a sample's JSON: motor parameters and attributes (motor
+    /// frame), motor, fixture and camera poses, the sensor, crop box, level, split and seeds;
+    /// `files` are each view's files.
+    pub fn json(&self, recipe: &Recipe, files: &[Vec<String>]) -> SampleJson {
         let out = &recipe.config.output;
         let first = self.views[0].pose;
-        let views: Vec<_> = self
+        let views = self
             .views
             .iter()
             .zip(files)
-            .map(|(v, files)| {
-                json!({
-                    "camera_to_world": matrix(&v.pose),
-                    "motor_to_camera": matrix(&(v.pose.inverse() * self.cell.motor_to_world)),
-                    "camera_to_first_camera": matrix(&(first.inverse() * v.pose)),
-                    "noise_seed": v.noise_seed,
-                    "points": v.cloud.len(),
-                    "files": files,
-                })
+            .map(|(v, files)| ViewJson {
+                camera_to_world: matrix(&v.pose),
+                motor_to_camera: matrix(&(v.pose.inverse() * self.cell.motor_to_world)),
+                camera_to_first_camera: matrix(&(first.inverse() * v.pose)),
+                noise_seed: v.noise_seed,
+                points: v.cloud.len(),
+                files: files.clone(),
             })
             .collect();
-        let objects: Vec<_> = self
+        let objects = self
             .cell
             .objects
             .iter()
-            .map(|o| {
-                json!({
-                    "name": o.name,
-                    "instance": o.instance,
-                    "class": o.part.map_or(0, |k| out.scheme.id(k)),
-                    "part": o.part,
-                    "material": o.material,
-                })
+            .map(|o| ObjectJson {
+                name: o.name.clone(),
+                instance: o.instance,
+                class: o.part.map_or(0, |k| out.scheme.id(k)),
+                part: o.part,
+                material: o.material,
             })
             .collect();
-        let fixture: serde_json::Map<String, serde_json::Value> = self
-            .cell
-            .fixture
-            .iter()
-            .map(|(n, s)| (n.clone(), json!(s)))
-            .collect();
-        json!({
-            "index": self.index,
-            "seed": self.seed,
-            "variant": self.variant,
-            "level": self.level,
-            "split": self.split,
-            "sweep": self.sweep_json(recipe),
-            "cover_removed": self.cover_removed,
-            "motor": motorgen::export::motor_json(&self.motor),
-            "motor_to_world": matrix(&self.cell.motor_to_world),
-            "fixture_shift": fixture,
-            "objects": objects,
-            "crop": { "min": self.crop.min, "max": self.crop.max },
-            "noise_scale": self.noise_scale,
-            "jitter": self.level.config(&recipe.config.augment).jitter,
-            "sensor": self.sensor,
-            "frame": out.frame,
-            "units": out.units,
-            "scheme": out.scheme,
-            "views": views,
-        })
-    }
-
-    fn sweep_json(&self, recipe: &Recipe) -> serde_json::Value {
-        recipe
-            .sweep
-            .iter()
-            .map(|(k, v)| (k.clone(), serde_json::to_value(v).unwrap_or_default()))
-            .collect::<serde_json::Map<_, _>>()
-            .into()
+        SampleJson {
+            index: self.index,
+            seed: self.seed,
+            variant: self.variant,
+            level: self.level,
+            split: self.split,
+            sweep: recipe.sweep.iter().cloned().collect(),
+            cover_removed: self.cover_removed,
+            motor: motorgen::export::motor_json(&self.motor),
+            motor_to_world: matrix(&self.cell.motor_to_world),
+            fixture_shift: self.cell.fixture.iter().cloned().collect(),
+            objects,
+            crop: CropJson {
+                min: self.crop.min,
+                max: self.crop.max,
+            },
+            noise_scale: self.noise_scale,
+            jitter: self.level.config(&recipe.config.augment).jitter,
+            sensor: self.sensor.clone(),
+            frame: out.frame,
+            units: out.units,
+            scheme: out.scheme,
+            views,
+        }
     }
 }

@@ -201,3 +201,34 @@ fn levels_and_splits_hold_their_shares_in_every_prefix() {
         "a level's validation count is {worst_level_split} off its share"
     );
 }
+
+#[test]
+fn a_sample_json_reads_back_as_written() {
+    let mut table = scene::config::builtin_table("registration").unwrap();
+    scene::set_key(&mut table, "sensor.binning", 4.into()).unwrap();
+    let out = std::env::temp_dir().join("never-written");
+    let dataset = scene::Dataset::new(table, None, None, scene::Shard::ALL, &out).unwrap();
+    let sample = scene::make(dataset.recipe(5), 5).unwrap();
+    let files = vec![vec!["train/a.ply".to_string()]; sample.views.len()];
+    let doc = sample.json(dataset.recipe(5), &files);
+    let text = doc.to_text();
+    let back: scene::SampleJson = serde_json::from_str(&text).unwrap();
+    let again = back.to_text();
+    if again != text {
+        let line = again.lines().zip(text.lines()).position(|(a, b)| a != b);
+        let at = line.unwrap_or(0);
+        panic!(
+            "line {at}: {:?} vs {:?}",
+            again.lines().nth(at),
+            text.lines().nth(at)
+        );
+    }
+    assert_eq!(back.views.len(), 2);
+    assert_eq!(back.views[1].files, files[1]);
+    assert!(back.objects.iter().any(|o| o.part.is_some() && o.class > 0));
+    // the keys of every object in sorted order, as the dataset writes them
+    let at = |key: &str| text.find(&format!("\n  \"{key}\"")).unwrap();
+    assert!(
+        at("cover_removed") < at("crop") && at("sensor") < at("split") && at("units") < at("views")
+    );
+}

@@ -1,0 +1,109 @@
+//! A sample's JSON (`{stem}.json` beside its clouds): everything needed to use the sample or make
+//! it again. The dataset writer fills [`SampleJson`]; readers (the preview, a user's loader in
+//! Rust) parse the same type.
+
+use std::collections::BTreeMap;
+
+use glam::Vec3;
+use motorgen::{PartKind, Scheme};
+use sensor::{Frame, Material, SensorSpec, Units};
+use serde::{Deserialize, Serialize};
+
+use crate::augment::{Level, Split};
+use crate::config::Variant;
+
+/// A row-major 4×4 matrix.
+pub type Matrix = [[f32; 4]; 4];
+
+/// One sample's ground truth and provenance. Written with every object's keys in sorted order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SampleJson {
+    /// Index in the dataset.
+    pub index: u64,
+    /// The dataset's global seed.
+    pub seed: u64,
+    /// Motor variant, when the configuration lists variants.
+    pub variant: Option<Variant>,
+    /// Augmentation level.
+    pub level: Level,
+    /// Split.
+    pub split: Split,
+    /// The swept keys' values of this sample (dotted key → value).
+    pub sweep: BTreeMap<String, toml::Value>,
+    /// Whether the cover and cover bolts were taken off.
+    pub cover_removed: bool,
+    /// `params` and `attributes` as `motorfactory motor` writes them, in the motor frame.
+    pub motor: serde_json::Value,
+    /// The motor's pose in the cell.
+    pub motor_to_world: Matrix,
+    /// Each fixture part's shift, m.
+    pub fixture_shift: BTreeMap<String, Vec3>,
+    /// Every scanned object.
+    pub objects: Vec<ObjectJson>,
+    /// The crop cuboid, world frame.
+    pub crop: CropJson,
+    /// Factor on the sensor's axial noise.
+    pub noise_scale: f32,
+    /// Half-widths of the uniform jitter after cropping, camera x, y, z, m.
+    pub jitter: [f32; 3],
+    /// The sensor as used.
+    pub sensor: SensorSpec,
+    /// Frame of the written points.
+    pub frame: Frame,
+    /// Units of the written points.
+    pub units: Units,
+    /// Label scheme.
+    pub scheme: Scheme,
+    /// The views.
+    pub views: Vec<ViewJson>,
+}
+
+/// One scanned object of a sample.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ObjectJson {
+    /// Part or cell object name.
+    pub name: String,
+    /// Instance id.
+    pub instance: u32,
+    /// Class in the sample's scheme (0: background).
+    pub class: u8,
+    /// Part kind, for motor parts.
+    pub part: Option<PartKind>,
+    /// Surface material.
+    pub material: Material,
+}
+
+/// The crop cuboid.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CropJson {
+    /// Smallest corner, world frame, m.
+    pub min: Vec3,
+    /// Largest corner.
+    pub max: Vec3,
+}
+
+/// One view of a sample.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ViewJson {
+    /// The camera's pose.
+    pub camera_to_world: Matrix,
+    /// The motor's pose in the camera frame.
+    pub motor_to_camera: Matrix,
+    /// This camera's pose in the first view's camera frame (registration ground truth).
+    pub camera_to_first_camera: Matrix,
+    /// Seed of the scan's per-pixel noise.
+    pub noise_seed: u64,
+    /// Points in the view's cropped cloud.
+    pub points: usize,
+    /// The view's files, relative to the dataset folder.
+    pub files: Vec<String>,
+}
+
+impl SampleJson {
+    /// The JSON text as written: pretty, keys sorted, a newline at the end.
+    pub fn to_text(&self) -> String {
+        // through a Value, whose maps sort their keys
+        let value = serde_json::to_value(self).expect("a sample's JSON serialises");
+        serde_json::to_string_pretty(&value).expect("a JSON value prints") + "\n"
+    }
+}
