@@ -1,11 +1,19 @@
-//! The dataset configuration: the TOML schema of `motorfactory generate`, its checks, dotted-key
-//! overrides (`--set`) and parameter sweeps.
+//! The dataset configuration: the TOML schema of `motorfactory generate` (this module), the
+//! TOML tables it is read from (`table`: the built-in configurations, overlays and dotted-key
+//! overrides), its checks (`check`) and parameter sweeps (`sweep`).
+
+mod check;
+mod sweep;
+mod table;
 
 use motorgen::{Detail, ParamSpace, Scheme};
 use rand::{Rng, RngExt};
 use sensor::formats::CloudFormat;
 use sensor::{Frame, Noise, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
+
+pub use sweep::Sweep;
+pub use table::{BUILTIN, builtin_table, default_table, overlay, parse_value, set_key};
 
 use crate::error::{Error, Result};
 
@@ -312,63 +320,6 @@ pub struct OutputConfig {
     pub images: bool,
 }
 
-/// One swept key and its values.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Sweep {
-    /// Dotted key, e.g. `motor.params.pole_pot_length` or `sensor.binning`.
-    pub key: String,
-    /// The values.
-    pub list: Option<Vec<toml::Value>>,
-    /// `[first, last, count]`: evenly spaced.
-    pub linspace: Option<(f64, f64, u32)>,
-    /// `[start, stop, step]`: start, start + step, ... up to stop.
-    pub grid: Option<(f64, f64, f64)>,
-}
-
-impl Sweep {
-    /// The values of the sweep, checked.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::Config`] unless exactly one of `list`, `linspace` and `grid`
-    /// is given, non-empty and finite.
-    pub fn values(&self) -> Result<Vec<toml::Value>> {
-        let key = format!("sweep {}", self.key);
-        let values = match (&self.list, self.linspace, self.grid) {
-            (Some(list), None, None) => list.clone(),
-            (None, Some((a, b, n)), None) if n >= 1 && a.is_finite() && b.is_finite() => (0..n)
-                .map(|i| {
-                    let t = if n == 1 {
-                        0.0
-                    } else {
-                        i as f64 / (n - 1) as f64
-                    };
-                    toml::Value::Float(a + (b - a) * t)
-                })
-                .collect(),
-            (None, None, Some((a, b, step)))
-                if step > 0.0 && a <= b && (b - a) / step <= 1e5 && a.is_finite() =>
-            {
-                let n = ((b - a) / step + 1e-9).floor() as u64;
-                (0..=n)
-                    .map(|i| toml::Value::Float(a + step * i as f64))
-                    .collect()
-            }
-            _ => {
-                return Err(Error::Config(format!(
-                    "{key}: give exactly one of list = [...], linspace = [first, last, count >= 1] \
-                     or grid = [start, stop, step > 0]"
-                )));
-            }
-        };
-        if values.is_empty() {
-            return Err(Error::Config(format!("{key}: the list is empty")));
-        }
-        Ok(values)
-    }
-}
-
 /// A whole dataset configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -395,86 +346,6 @@ pub struct Config {
     /// combination i mod count).
     #[serde(default)]
     pub sweep: Vec<Sweep>,
-}
-
-/// Sets the dotted `key` (e.g. `camera.distance`) of `table` to `value`, creating tables on the
-/// way.
-///
-/// # Errors
-///
-/// [`Error::Config`] when `key` is not a dotted key or passes through a value
-/// that is not a table.
-pub fn set_key(table: &mut toml::Table, key: &str, value: toml::Value) -> Result<()> {
-    let mut parts: Vec<&str> = key.split('.').collect();
-    let last = parts.pop().filter(|s| !s.is_empty());
-    let (Some(last), true) = (last, parts.iter().all(|p| !p.is_empty())) else {
-        return Err(Error::Config(format!(
-            "`{key}` is not a dotted key such as camera.distance"
-        )));
-    };
-    let mut t = table;
-    for p in parts {
-        let entry = t
-            .entry(p)
-            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        t = entry
-            .as_table_mut()
-            .ok_or_else(|| Error::Config(format!("{key}: `{p}` is not a table")))?;
-    }
-    t.insert(last.into(), value);
-    Ok(())
-}
-
-/// Lays `top` over `base`: tables merge key by key, any other value replaces.
-pub fn overlay(base: &mut toml::Table, top: toml::Table) {
-    for (key, value) in top {
-        match (base.get_mut(&key), value) {
-            (Some(toml::Value::Table(b)), toml::Value::Table(t)) => overlay(b, t),
-            (_, value) => {
-                base.insert(key, value);
-            }
-        }
-    }
-}
-
-/// Parses the right-hand side of `--set key=value`: a TOML value, or a bare word as text.
-pub fn parse_value(text: &str) -> toml::Value {
-    toml::from_str::<toml::Table>(&format!("v = {text}"))
-        .ok()
-        .and_then(|mut t| t.remove("v"))
-        .unwrap_or_else(|| toml::Value::String(text.to_string()))
-}
-
-/// The configurations shipped in `configs/` and built into the library: `(name, TOML)`, the
-/// default first. Every other configuration is laid over the default with [`overlay`].
-pub const BUILTIN: [(&str, &str); 6] = [
-    ("default", crate::DEFAULT_CONFIG),
-    ("synmotor", include_str!("../configs/synmotor.toml")),
-    ("zivid", include_str!("../configs/zivid.toml")),
-    ("registration", include_str!("../configs/registration.toml")),
-    (
-        "sweep-pole-pot",
-        include_str!("../configs/sweep-pole-pot.toml"),
-    ),
-    ("sweep-noise", include_str!("../configs/sweep-noise.toml")),
-];
-
-/// The default configuration as a TOML table, every key present: the base that configurations
-/// are laid over.
-pub fn default_table() -> toml::Table {
-    toml::from_str(crate::DEFAULT_CONFIG).expect("configs/default.toml is valid TOML")
-}
-
-/// The built-in configuration `name` laid over the default, as a table to which overrides can
-/// still be applied; `None` for a name not in [`BUILTIN`].
-pub fn builtin_table(name: &str) -> Option<toml::Table> {
-    let (_, text) = BUILTIN.iter().find(|(n, _)| *n == name)?;
-    let mut table = default_table();
-    overlay(
-        &mut table,
-        toml::from_str(text).expect("the built-in configurations are valid TOML"),
-    );
-    Some(table)
 }
 
 impl Default for Config {
@@ -534,170 +405,5 @@ impl Config {
                 Ok(space)
             })
             .collect()
-    }
-
-    /// Checks every value against what it allows.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::Config`] naming the first value that is not allowed, with
-    /// what is.
-    pub fn check(&self) -> Result<()> {
-        let m = &self.motor;
-        self.param_spaces()?;
-        share("motor.cover_removed", m.cover_removed)?;
-        if m.cover_removed > 0.0 && self.output.scheme != Scheme::InnerParts {
-            return Err(Error::invalid(
-                "motor.cover_removed",
-                m.cover_removed,
-                "0 unless output.scheme = \"inner10\" (the other schemes have no gear classes)",
-            ));
-        }
-        let c = &self.cell;
-        for (i, j) in c.pose_jitter_deg.iter().enumerate() {
-            if !(0.0..=90.0).contains(j) {
-                return Err(Error::invalid(
-                    &format!("cell.pose_jitter_deg[{i}]"),
-                    j,
-                    "0 to 90 degrees",
-                ));
-            }
-        }
-        if !(0.0..=0.2).contains(&c.clearance) {
-            return Err(Error::invalid("cell.clearance", c.clearance, "0 to 0.2 m"));
-        }
-        let f = &c.fixture;
-        for (name, shift) in [
-            ("fixed_jaw", &f.fixed_jaw),
-            ("sliding_jaw", &f.sliding_jaw),
-            ("pillar", &f.pillar),
-            ("cylinder", &f.cylinder),
-        ] {
-            for (axis, s) in ["x", "y", "z"].iter().zip(shift) {
-                s.check(&format!("cell.fixture.{name}.{axis}"), -0.2, 0.2)?;
-            }
-        }
-        let o = &c.occluders;
-        if o.count[0] > o.count[1] || o.count[1] > 20 {
-            return Err(Error::invalid(
-                "cell.occluders.count",
-                format!("{:?}", o.count),
-                "[min, max] with min <= max <= 20",
-            ));
-        }
-        o.size.check("cell.occluders.size", 1e-3, 0.5)?;
-        o.height.check("cell.occluders.height", -0.1, 0.5)?;
-        if !(0.0..=0.5).contains(&o.spread) {
-            return Err(Error::invalid(
-                "cell.occluders.spread",
-                o.spread,
-                "0 to 0.5 m",
-            ));
-        }
-        if !(0.0..=90.0).contains(&o.tilt_deg) {
-            return Err(Error::invalid(
-                "cell.occluders.tilt_deg",
-                o.tilt_deg,
-                "0 to 90 degrees",
-            ));
-        }
-        self.check_camera()?;
-        self.sensor.resolve()?;
-        let k = &self.crop;
-        for (key, s, lo, hi) in [
-            ("crop.x_min", &k.x_min, -1.0, 0.0),
-            ("crop.x_max", &k.x_max, 0.0, 1.0),
-            ("crop.y_min", &k.y_min, -1.0, 0.0),
-            ("crop.y_max", &k.y_max, 0.0, 1.0),
-            ("crop.z_min", &k.z_min, -1.0, 0.0),
-            ("crop.z_max", &k.z_max, 0.0, 1.0),
-        ] {
-            s.check(key, lo, hi)?;
-        }
-        let a = &self.augment;
-        share("augment.validation", a.validation)?;
-        for (name, l) in [
-            ("clean", &a.clean),
-            ("occluded", &a.occluded),
-            ("noisy", &a.noisy),
-        ] {
-            share(&format!("augment.{name}.share"), l.share)?;
-            l.noise_scale
-                .check(&format!("augment.{name}.noise_scale"), 0.0, 100.0)?;
-            for (axis, j) in ["x", "y", "z"].iter().zip(l.jitter) {
-                if !(0.0..=0.1).contains(&j) {
-                    return Err(Error::invalid(
-                        &format!("augment.{name}.jitter.{axis}"),
-                        j,
-                        "0 to 0.1 m",
-                    ));
-                }
-            }
-        }
-        let total = a.clean.share + a.occluded.share + a.noisy.share;
-        if (total - 1.0).abs() > 1e-4 {
-            return Err(Error::invalid(
-                "augment.{clean,occluded,noisy}.share",
-                total,
-                "shares that add up to 1",
-            ));
-        }
-        if self.output.formats.is_empty() && !self.output.images {
-            return Err(Error::invalid(
-                "output.formats",
-                "[]",
-                "at least one of ply, pcd, pcd-ascii, npy, npz (or images = true)",
-            ));
-        }
-        for s in &self.sweep {
-            s.values()?;
-        }
-        Ok(())
-    }
-
-    fn check_camera(&self) -> Result<()> {
-        let c = &self.camera;
-        if !(1..=64).contains(&c.views) {
-            return Err(Error::invalid("camera.views", c.views, "1 to 64"));
-        }
-        c.distance.check("camera.distance", 0.05, 20.0)?;
-        c.tilt_deg.check("camera.tilt_deg", 0.0, 90.0)?;
-        c.azimuth_deg.check("camera.azimuth_deg", -720.0, 720.0)?;
-        c.roll_deg.check("camera.roll_deg", -360.0, 360.0)?;
-        let distinct = |p: &[f32; 6]| {
-            p.iter().all(|x| x.is_finite())
-                && (glam::Vec3::from_slice(&p[..3]) - glam::Vec3::from_slice(&p[3..])).length()
-                    > 1e-6
-        };
-        match c.rig {
-            Rig::Fixed if !distinct(&c.look_at) => Err(Error::invalid(
-                "camera.look_at",
-                format!("{:?}", c.look_at),
-                "[eye x, y, z, target x, y, z] with eye != target",
-            )),
-            Rig::List if c.poses.is_empty() || !c.poses.iter().all(distinct) => {
-                Err(Error::invalid(
-                    "camera.poses",
-                    format!("{:?}", c.poses),
-                    "a non-empty list of [eye x, y, z, target x, y, z] with eye != target",
-                ))
-            }
-            _ if !c.up.iter().all(|x| x.is_finite()) || glam::Vec3::from(c.up).length() < 1e-6 => {
-                Err(Error::invalid(
-                    "camera.up",
-                    format!("{:?}", c.up),
-                    "a non-zero direction",
-                ))
-            }
-            _ => Ok(()),
-        }
-    }
-}
-
-fn share(key: &str, x: f32) -> Result<()> {
-    if (0.0..=1.0).contains(&x) {
-        Ok(())
-    } else {
-        Err(Error::invalid(key, x, "a share from 0 to 1"))
     }
 }
