@@ -139,8 +139,8 @@ pub struct Material {
     pub roughness: f32,
 }
 
-/// The add-on's materials (facts §1.8); the armature's copper "Wire" colour is ours (the add-on
-/// left the rotor colours undocumented).
+/// The add-on's materials (its `Materia_Tables`); the armature's copper "Wire" colour is ours
+/// (the add-on left the rotor colours undocumented).
 pub static MATERIALS: &[Material] = &[
     Material {
         name: "Metall",
