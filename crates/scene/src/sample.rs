@@ -21,17 +21,43 @@ thread_local! {
     static PIXELS: std::cell::Cell<Vec<Pixel>> = const { std::cell::Cell::new(Vec::new()) };
 }
 
-/// Independent random streams of a sample (so that changing one setting leaves the others'
-/// draws alone).
-mod stream {
-    pub const MOTOR: u64 = 0;
-    pub const CELL: u64 = 1;
-    pub const CAMERA: u64 = 2;
-    pub const CROP: u64 = 3;
-    pub const NOISE_SCALE: u64 = 4;
-    pub const COVER: u64 = 5;
-    pub const SCAN: u64 = 100;
-    pub const JITTER: u64 = 200;
+/// What a sample draws at random, each from a seed of its own derived from the sample's seed,
+/// so that changing one setting leaves the others' draws alone. (The sensor's per-pixel draws
+/// are keyed by the scan's seed, `Seed::Scan`, and streams of their own: `sensor::noise::stream`.)
+#[derive(Clone, Copy)]
+enum Seed {
+    Motor,
+    Cell,
+    Camera,
+    Crop,
+    NoiseScale,
+    Cover,
+    /// View `k`'s scan.
+    Scan(u64),
+    /// View `k`'s jitter after cropping.
+    Jitter(u64),
+}
+
+impl Seed {
+    /// The seed of this draw in the sample with seed `sample`.
+    fn of(self, sample: u64) -> u64 {
+        let stream = match self {
+            Seed::Motor => 0,
+            Seed::Cell => 1,
+            Seed::Camera => 2,
+            Seed::Crop => 3,
+            Seed::NoiseScale => 4,
+            Seed::Cover => 5,
+            Seed::Scan(k) => 100 + k,
+            Seed::Jitter(k) => 200 + k,
+        };
+        derive_seed(sample, stream)
+    }
+
+    /// A generator for this draw in the sample with seed `sample`.
+    fn rng(self, sample: u64) -> ChaCha8Rng {
+        ChaCha8Rng::seed_from_u64(self.of(sample))
+    }
 }
 
 /// A checked configuration, ready to make samples.
@@ -111,10 +137,6 @@ pub struct Sample {
     pub views: Vec<View>,
 }
 
-fn rng(seed: u64, stream: u64) -> ChaCha8Rng {
-    ChaCha8Rng::seed_from_u64(derive_seed(seed, stream))
-}
-
 /// The crop box around `centre`, each face drawn from its span.
 fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
     let min = Vec3::new(
@@ -166,11 +188,8 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     };
     let (level, split) = assign(k, &config.augment);
     let space = &recipe.spaces[(index % recipe.spaces.len() as u64) as usize];
-    let motor = build(
-        &space.sample(derive_seed(seed, stream::MOTOR))?,
-        config.motor.detail,
-    );
-    let cover_removed = rng(seed, stream::COVER).random::<f32>() < config.motor.cover_removed;
+    let motor = build(&space.sample(Seed::Motor.of(seed))?, config.motor.detail);
+    let cover_removed = Seed::Cover.rng(seed).random::<f32>() < config.motor.cover_removed;
     let lc = level.config(&config.augment);
     let cell = compose(
         &motor,
@@ -180,20 +199,16 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             fixture_shift: lc.fixture_shift,
             cover_removed,
         },
-        &mut rng(seed, stream::CELL),
+        &mut Seed::Cell.rng(seed),
     );
-    let crop = crop_box(
-        &config.crop,
-        cell.motor_centre,
-        &mut rng(seed, stream::CROP),
-    );
+    let crop = crop_box(&config.crop, cell.motor_centre, &mut Seed::Crop.rng(seed));
     let poses = camera_poses(
         &config.camera,
         cell.motor_centre,
         index,
-        &mut rng(seed, stream::CAMERA),
+        &mut Seed::Camera.rng(seed),
     );
-    let noise_scale = lc.noise_scale.sample(&mut rng(seed, stream::NOISE_SCALE));
+    let noise_scale = lc.noise_scale.sample(&mut Seed::NoiseScale.rng(seed));
     let mut sensor = recipe.sensor.clone();
     let axial = &mut sensor.noise.axial;
     axial.sigma *= noise_scale;
@@ -207,7 +222,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         .into_iter()
         .enumerate()
         .map(|(v, pose)| {
-            let noise_seed = derive_seed(seed, stream::SCAN + v as u64);
+            let noise_seed = Seed::Scan(v as u64).of(seed);
             // unless the whole scene is wanted, only pixels whose rays cross the crop box grown
             // beyond the reach of the sensor's neighbour effects (in pixel footprints at the
             // box's far corner, than which no corner is farther), so cropping loses nothing
@@ -223,7 +238,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             });
             let buffer = PIXELS.take();
             let s = scan_reusing(&world, &sensor, &pose, noise_seed, region.as_ref(), buffer);
-            let mut jitter = rng(seed, stream::JITTER + v as u64);
+            let mut jitter = Seed::Jitter(v as u64).rng(seed);
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
             let to_frame = out.frame.from_camera(&pose);
             let scene_cloud = out
