@@ -16,9 +16,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // the dataset is only planned: nothing is written until `prepare` and `run`
     let dataset = Dataset::new(table, None, None, Shard::ALL, "out/unused".as_ref())?;
     let index: u64 = index.parse()?;
-    let recipe = dataset.recipe(index);
+    let recipe = dataset.recipe(index)?;
     let scheme = recipe.config.output.scheme;
-    let sample = make(recipe, index)?;
+    let sample = make(&recipe, index)?;
     println!(
         "sample {index}: motor {}, level {:?}, split {:?}",
         sample.motor.attributes.variant, sample.level, sample.split

@@ -9,6 +9,9 @@ pub enum CliError {
     /// A failure after work began.
     #[error("{0}")]
     Runtime(String),
+    /// Stopped by a signal (its number) after finishing the work in flight.
+    #[error("stopped by signal {0}; {1}")]
+    Stopped(i32, String),
 }
 
 impl CliError {
@@ -17,6 +20,7 @@ impl CliError {
         match self {
             CliError::Usage(_) => 2,
             CliError::Runtime(_) => 1,
+            CliError::Stopped(signal, _) => 128 + signal,
         }
     }
 }
@@ -44,4 +48,14 @@ pub fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> CliRes
                 names.join(", ")
             ))
         })
+}
+
+/// Worker threads: a whole number from 1 to four times this machine's cores.
+pub fn jobs(text: &str) -> Result<usize, String> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let most = 4 * cores;
+    text.parse::<usize>()
+        .ok()
+        .filter(|n| (1..=most).contains(n))
+        .ok_or_else(|| format!("expected a whole number from 1 to {most} (4 x {cores} cores)"))
 }

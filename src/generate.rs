@@ -8,6 +8,7 @@ use scene::{Dataset, Shard, overlay, parse_value, set_key};
 
 use crate::error::{CliError, CliResult, choice};
 use crate::progress::Progress;
+use crate::signals::Signals;
 
 /// Generate a labelled dataset: motors in the work cell, scanned, cropped and augmented.
 #[derive(Debug, Args)]
@@ -25,8 +26,8 @@ pub struct GenerateCmd {
     /// Global seed (default: the config's `seed`).
     #[arg(long)]
     seed: Option<u64>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads, 1 to 4 x the cores (default: all cores).
+    #[arg(long, value_parser = crate::error::jobs)]
     jobs: Option<usize>,
     /// Make only samples with index % N == I (I/N), e.g. one task of a Slurm array.
     #[arg(long, default_value = "0/1")]
@@ -110,18 +111,13 @@ impl GenerateCmd {
 
     /// Runs the command.
     pub fn run(&self) -> CliResult<()> {
+        let signals = Signals::install()?;
         let shard = Shard::parse(&self.shard).map_err(scene_error)?;
-        if self.jobs == Some(0) {
-            return Err(CliError::Usage("--jobs 0: expected at least 1".into()));
-        }
         let dataset = Dataset::new(self.table()?, self.samples, self.seed, shard, &self.out)
             .map_err(scene_error)?;
-        let done = dataset.prepare(self.resume).map_err(scene_error)?;
-        let todo = (0..dataset.samples)
-            .filter(|i| i % shard.count == shard.part)
-            .count() as u64;
-        let progress = Progress::new(todo, "samples", self.quiet);
-        for _ in &done {
+        let prepared = dataset.prepare(self.resume).map_err(scene_error)?;
+        let progress = Progress::new(dataset.shard_samples(), "samples", self.quiet);
+        for _ in prepared.done() {
             progress.tick();
         }
         let pool = rayon::ThreadPoolBuilder::new()
@@ -129,11 +125,25 @@ impl GenerateCmd {
             .build()
             .map_err(|e| CliError::Runtime(e.to_string()))?;
         let summary = pool
-            .install(|| dataset.run(done, &|_| progress.tick()))
+            .install(|| {
+                dataset.run(prepared, &|_| progress.tick(), &|| {
+                    signals.caught().is_some()
+                })
+            })
             .map_err(scene_error)?;
+        if let (true, Some(signal)) = (summary.stopped, signals.caught()) {
+            progress.finish();
+            return Err(CliError::Stopped(
+                signal,
+                format!(
+                    "{} samples made; the same command with --resume finishes the dataset",
+                    summary.made
+                ),
+            ));
+        }
         let (_, seconds) = progress.finish();
         if !self.quiet {
-            let scheme = dataset.recipe(0).config.output.scheme;
+            let scheme = dataset.scheme();
             let seen: Vec<String> = scheme
                 .classes()
                 .iter()

@@ -7,6 +7,7 @@ mod motors;
 mod preview;
 mod progress;
 mod scan;
+mod signals;
 
 use clap::{Parser, Subcommand};
 

@@ -213,8 +213,8 @@ pub struct MotorsCmd {
     /// Number of motors.
     #[arg(short = 'n', long)]
     count: u64,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads, 1 to 4 x the cores (default: all cores).
+    #[arg(long, value_parser = crate::error::jobs)]
     jobs: Option<usize>,
     /// No progress output.
     #[arg(long)]

@@ -1,7 +1,6 @@
 //! `motorfactory generate` end to end: a small dataset checked file by file, identical bytes for
 //! any --jobs and for shards, kill and resume, and every kind of bad configuration refused.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Output, Stdio};
 
@@ -9,7 +8,7 @@ use glam::{Affine3A, Mat4, Vec3};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
 
-use kit::{files_below, motorfactory};
+use kit::{dataset_files, motorfactory};
 
 mod kit;
 
@@ -37,13 +36,6 @@ fn small(n: &str, extra: &[&str]) -> Vec<String> {
 
 fn ok(o: &Output) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
-
-/// Every file below `dir` by relative path, manifests left out.
-fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut files = files_below(dir);
-    files.retain(|name, _| !name.starts_with("manifest"));
-    files
 }
 
 /// Manifest rows of every manifest in `dir`, sorted.
@@ -153,7 +145,7 @@ fn small_dataset_is_complete_labelled_cropped_and_listed() {
     }
     assert!(seen.iter().all(|&n| n > 0), "classes seen: {seen:?}");
     // the manifest lists every sample file, and nothing else is there
-    let on_disk: std::collections::BTreeSet<String> = files(&out)
+    let on_disk: std::collections::BTreeSet<String> = dataset_files(&out)
         .into_keys()
         .filter(|k| k.starts_with("train") || k.starts_with("validation"))
         .collect();
@@ -184,7 +176,7 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
     ok(&generate(&one, &[&args(&a)[..], &["--jobs", "1"]].concat()));
     let two = dir.path().join("two");
     ok(&generate(&two, &[&args(&a)[..], &["--jobs", "2"]].concat()));
-    assert_eq!(files(&one), files(&two));
+    assert_eq!(dataset_files(&one), dataset_files(&two));
     assert_eq!(
         std::fs::read(one.join("manifest.jsonl")).unwrap(),
         std::fs::read(two.join("manifest.jsonl")).unwrap()
@@ -196,9 +188,12 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
             &[&args(&a)[..], &["--shard", s]].concat(),
         ));
     }
-    assert_eq!(files(&one), files(&shards));
-    assert_eq!(rows(&one), rows(&shards));
+    assert_eq!(dataset_files(&one), dataset_files(&shards));
     assert!(shards.join("manifest-2-of-3.jsonl").is_file());
+    assert_eq!(
+        std::fs::read(one.join("manifest.jsonl")).unwrap(),
+        std::fs::read(shards.join("manifest.jsonl")).unwrap()
+    );
 }
 
 #[test]
@@ -236,7 +231,11 @@ fn killed_run_resumes_to_the_same_bytes() {
         .open(&manifest)
         .unwrap();
     std::io::Write::write_all(&mut m, b"{\"index\":15,\"spl").unwrap();
-    std::fs::write(part.join("train/000015_B0_noisy.npy.4242.tmp"), b"half").unwrap();
+    std::fs::write(
+        part.join("train/000015_B0_noisy.npy.0000000000004242.tmp"),
+        b"half",
+    )
+    .unwrap();
 
     let refused = generate(&part, &args(&a));
     assert_eq!(
@@ -245,7 +244,7 @@ fn killed_run_resumes_to_the_same_bytes() {
         "a second run needs --resume"
     );
     ok(&generate(&part, &[&args(&a)[..], &["--resume"]].concat()));
-    assert_eq!(files(&whole), files(&part));
+    assert_eq!(dataset_files(&whole), dataset_files(&part));
     assert_eq!(
         std::fs::read(whole.join("manifest.jsonl")).unwrap(),
         std::fs::read(&manifest).unwrap()
@@ -260,7 +259,7 @@ fn a_dataset_extended_with_resume_equals_one_made_at_its_final_size() {
     ok(&generate(&grown, &args(&small("5", &["--resume"]))));
     let fresh = dir.path().join("fresh");
     ok(&generate(&fresh, &args(&small("5", &[]))));
-    assert_eq!(files(&grown), files(&fresh));
+    assert_eq!(dataset_files(&grown), dataset_files(&fresh));
     assert_eq!(rows(&grown), rows(&fresh));
     // shrinking below what is there is refused
     let o = generate(&grown, &args(&small("2", &["--resume"])));

@@ -26,3 +26,12 @@ pub fn files_below(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     }
     out
 }
+
+/// A dataset folder's files by relative path with their bytes, without the manifests and the
+/// runs' lock files.
+#[allow(dead_code)]
+pub fn dataset_files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut files = files_below(dir);
+    files.retain(|name, _| !name.starts_with("manifest") && !name.starts_with(".motorfactory"));
+    files
+}

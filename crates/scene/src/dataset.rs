@@ -11,13 +11,15 @@
 use std::collections::BTreeMap;
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
+use motorgen::Scheme;
 use motorgen::export::write_atomic;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::config::{Config, set_key};
+use crate::claim::Claim;
+use crate::config::{Combinations, Config, set_key};
 use crate::error::{Error, Result};
 use crate::sample::{Recipe, Sample, make};
 
@@ -83,7 +85,7 @@ pub struct Row {
     pub class_counts: Vec<u64>,
 }
 
-/// A resolved dataset: its recipes (one per sweep combination), size and output folder.
+/// A resolved dataset: its configuration and sweeps, size, shard and output folder.
 ///
 /// # Example
 ///
@@ -95,15 +97,19 @@ pub struct Row {
 /// # std::fs::remove_dir_all(&out).ok();
 /// let table = scene::config::default_table();
 /// let dataset = Dataset::new(table, Some(4), None, Shard::ALL, &out)?;
-/// let done = dataset.prepare(false)?; // makes the folder, config.toml and labels.json
-/// let summary = dataset.run(done, &|row| println!("{} done", row.json))?;
+/// let prepared = dataset.prepare(false)?; // claims the folder, writes config.toml, labels.json
+/// let summary = dataset.run(prepared, &|row| println!("{} done", row.json), &|| false)?;
 /// assert_eq!(summary.made, 4);
 /// let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
 /// assert_eq!(manifest.lines().count(), 4);
 /// # Ok::<(), scene::Error>(())
 /// ```
 pub struct Dataset {
-    recipes: Vec<Recipe>,
+    /// The recipe without sweeps, or that of the sweeps' first combination.
+    base: Arc<Recipe>,
+    /// The configuration table the sweeps are laid over.
+    table: toml::Table,
+    combinations: Combinations,
     /// Number of samples.
     pub samples: u64,
     /// The part this run makes.
@@ -124,6 +130,22 @@ pub struct Summary {
     pub points: u64,
     /// Points per class id.
     pub class_counts: Vec<u64>,
+    /// Whether the run was stopped before its shard was done.
+    pub stopped: bool,
+}
+
+/// A prepared output folder: the run's claim on it and the samples of its shard already done.
+#[derive(Debug)]
+pub struct Prepared {
+    claim: Claim,
+    done: Vec<Row>,
+}
+
+impl Prepared {
+    /// The samples of this shard already in the folder's manifests, by index.
+    pub fn done(&self) -> &[Row] {
+        &self.done
+    }
 }
 
 impl Dataset {
@@ -148,81 +170,87 @@ impl Dataset {
             set_key(&mut table, "seed", toml::Value::Integer(to_toml_int(s)?))?;
         }
         let base = Config::from_table(&table)?;
-        let mut combos: Vec<Vec<(String, toml::Value)>> = vec![Vec::new()];
-        for sweep in &base.sweep {
-            let values = sweep.values()?;
-            combos = combos
-                .into_iter()
-                .flat_map(|c| {
-                    values.iter().map(move |v| {
-                        let mut c = c.clone();
-                        c.push((sweep.key.clone(), v.clone()));
-                        c
-                    })
-                })
-                .collect();
-            if combos.len() > 100_000 {
-                return Err(Error::invalid(
-                    "sweep",
-                    format!("{} combinations", combos.len()),
-                    "at most 100000 combinations",
-                ));
-            }
-        }
-        let recipes = combos
-            .into_iter()
-            .map(|combo| {
-                let mut t = table.clone();
-                for (key, value) in &combo {
-                    if key.split('.').next() == Some("sweep") {
-                        return Err(Error::invalid("sweep key", key, "a key outside [[sweep]]"));
-                    }
-                    set_key(&mut t, key, value.clone())?;
-                }
-                let config = Config::from_table(&t).map_err(|e| {
-                    let at: Vec<String> = combo.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-                    Error::Config(format!("with sweep {}: {e}", at.join(", ")))
-                })?;
-                Recipe::new(config, combo)
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let combinations = Combinations::new(&base.sweep)?;
         let resolved = format!(
             "# Resolved configuration of this dataset (every key; `motorfactory generate --config` \
              reads it back).\n{}",
             toml::to_string(&base).map_err(|e| Error::Config(e.to_string()))?
         );
-        Ok(Dataset {
-            recipes,
+        let mut dataset = Dataset {
+            base: Arc::new(Recipe::new(base.clone(), Vec::new())?),
+            table,
+            combinations,
             samples: base.samples,
             shard,
             out: out.to_path_buf(),
             resolved,
-        })
+        };
+        if dataset.combinations.total() > 1 {
+            // the first combination stands for the dataset's labels; the first samples' are
+            // checked before anything is written, the others when their samples are made
+            for c in (0..dataset.combinations.total()).take(16) {
+                let recipe = dataset.combination(c)?;
+                if c == 0 {
+                    dataset.base = recipe;
+                }
+            }
+        }
+        Ok(dataset)
     }
 
-    /// The recipe of sample `index`.
-    pub fn recipe(&self, index: u64) -> &Recipe {
-        &self.recipes[(index % self.recipes.len() as u64) as usize]
+    /// The recipe of combination `c` of the sweeps.
+    fn combination(&self, c: u64) -> Result<Arc<Recipe>> {
+        let combo = self.combinations.get(c);
+        let mut t = self.table.clone();
+        for (key, value) in &combo {
+            set_key(&mut t, key, value.clone())?;
+        }
+        let config = Config::from_table(&t).map_err(|e| {
+            let at: Vec<String> = combo.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+            Error::Config(format!("with sweep {}: {e}", at.join(", ")))
+        })?;
+        Ok(Arc::new(Recipe::new(config, combo)?))
+    }
+
+    /// The recipe of sample `index`: its combination of the sweeps' values, if any.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when that combination of values is not a valid configuration.
+    pub fn recipe(&self, index: u64) -> Result<Arc<Recipe>> {
+        if self.combinations.total() == 1 {
+            Ok(self.base.clone())
+        } else {
+            self.combination(index % self.combinations.total())
+        }
+    }
+
+    /// The label scheme of the dataset's samples.
+    pub fn scheme(&self) -> Scheme {
+        self.base.config.output.scheme
     }
 
     fn manifest(&self) -> PathBuf {
         self.out.join(self.shard.manifest_name())
     }
 
-    /// Creates the folder and writes `config.toml` and `labels.json`; with `resume`, reads the
-    /// rows already done. Refuses a folder holding another dataset, or this one without
-    /// `resume`.
+    /// Creates the folder, claims it for this run ([`Claim`]), and writes `config.toml` and
+    /// `labels.json`; reads the samples of this shard already done (in any manifest of the
+    /// folder) and removes the temporary files of runs that died. Refuses a folder holding
+    /// another dataset, or samples of this shard without `resume`.
     ///
     /// # Errors
     ///
-    /// [`Error::Output`] when the folder holds another dataset, or holds
-    /// samples and `resume` is false; [`Error::Io`] when the folder or its first
-    /// files cannot be written.
-    pub fn prepare(&self, resume: bool) -> Result<Vec<Row>> {
+    /// [`Error::Output`] when the folder holds another dataset, holds samples of this shard
+    /// and `resume` is false, or another run holds it; [`Error::Io`] when the folder or its
+    /// first files cannot be written.
+    pub fn prepare(&self, resume: bool) -> Result<Prepared> {
         let out = &self.out;
         let unusable =
             |what: String| Error::Output(format!("output folder {}: {what}", out.display()));
         std::fs::create_dir_all(out).map_err(|e| unusable(e.to_string()))?;
+        let claim = Claim::take(out, self.shard)?;
+        let _setup = claim.setup()?;
         let config = out.join("config.toml");
         if let Ok(existing) = std::fs::read_to_string(&config)
             && !same_dataset(&existing, &self.resolved)
@@ -233,7 +261,11 @@ impl Dataset {
                     .into(),
             ));
         }
-        let rows = read_rows(&self.manifest())?;
+        let shard = self.shard;
+        let rows: Vec<Row> = read_all_rows(out)?
+            .into_values()
+            .filter(|r| r.index % shard.count == shard.part)
+            .collect();
         if !rows.is_empty() && !resume {
             return Err(unusable(format!(
                 "already holds {} samples of this dataset; pass --resume to finish or extend it",
@@ -248,7 +280,7 @@ impl Dataset {
         }
         save(&config, &|w| w.write_all(self.resolved.as_bytes()))
             .map_err(|e| unusable(e.to_string()))?;
-        let scheme = self.recipes[0].config.output.scheme;
+        let scheme = self.scheme();
         let labels = serde_json::json!({
             "scheme": scheme,
             "classes": scheme.classes(),
@@ -256,27 +288,42 @@ impl Dataset {
             "instances": "motor parts 1..k in build order (see each sample's objects), then the table, fixture parts and panels",
         });
         save(&out.join("labels.json"), &|w| write_json(w, &labels))?;
+        let mut dirs = vec![out.clone()];
         for split in ["train", "validation"] {
             let dir = out.join(split);
             std::fs::create_dir_all(&dir).map_err(|e| unusable(e.to_string()))?;
-            remove_stale_temporaries(&dir, self.shard)?;
+            dirs.push(dir);
         }
-        Ok(rows)
+        claim.remove_stale_temporaries(&dirs)?;
+        drop(_setup);
+        Ok(Prepared { claim, done: rows })
     }
 
-    /// Makes every sample of the shard not in `done`, with the current rayon pool; calls
+    /// The number of samples in this run's shard.
+    pub fn shard_samples(&self) -> u64 {
+        let Shard { part, count } = self.shard;
+        self.samples.saturating_sub(part).div_ceil(count)
+    }
+
+    /// Makes every sample of the shard not done yet, with the current rayon pool; calls
     /// `finished` after each. The manifest gains each row once its files are in place, and is
-    /// rewritten sorted by index at the end.
+    /// rewritten sorted by index at the end. Once `stop` says so, no new sample is begun: the
+    /// ones in flight are finished, and the summary says the run stopped. The shard that
+    /// finds the whole dataset done writes the merged `manifest.jsonl`.
     ///
     /// # Errors
     ///
     /// [`Error::Io`] when a sample's files or the manifest cannot be written; the
     /// samples finished before it stay in the manifest, so `resume` continues from there.
-    pub fn run(&self, done: Vec<Row>, finished: &(dyn Fn(&Row) + Sync)) -> Result<Summary> {
+    pub fn run(
+        &self,
+        prepared: Prepared,
+        finished: &(dyn Fn(&Row) + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Summary> {
+        let Prepared { claim, done } = prepared;
         let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.index).collect();
-        let todo: Vec<u64> = (0..self.samples)
-            .filter(|i| i % self.shard.count == self.shard.part && !have.contains(i))
-            .collect();
+        let Shard { part, count } = self.shard;
         let manifest_path = self.manifest();
         // rewrite what is done (dropping a torn last line) before appending to it
         write_rows(&manifest_path, &done)?;
@@ -288,25 +335,57 @@ impl Dataset {
         let manifest = Mutex::new(manifest);
         let rows = Mutex::new(done);
         let skipped = have.len() as u64;
-        todo.par_iter().with_max_len(1).try_for_each(|&index| {
-            let sample = make(self.recipe(index), index)?;
-            let row = self.write(&sample)?;
-            let line = serde_json::to_string(&row).expect("rows serialise") + "\n";
-            manifest
-                .lock()
-                .expect("manifest lock")
-                .write_all(line.as_bytes())
-                .map_err(Error::io(&manifest_path))?;
-            finished(&row);
-            rows.lock().expect("rows lock").push(row);
-            Ok::<_, Error>(())
+        let stopped = std::sync::atomic::AtomicBool::new(false);
+        let todo = usize::try_from(self.shard_samples()).map_err(|_| {
+            Error::invalid(
+                "samples",
+                self.samples,
+                "fewer samples than this machine counts",
+            )
         })?;
+        (0..todo)
+            .into_par_iter()
+            .with_max_len(1)
+            .map(|k| part + k as u64 * count)
+            .filter(|i| !have.contains(i))
+            .try_for_each(|index| {
+                if stop() {
+                    stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+                    return Err(None);
+                }
+                let recipe = self.recipe(index).map_err(Some)?;
+                let sample = make(&recipe, index).map_err(Some)?;
+                let row = self.write(&recipe, &sample).map_err(Some)?;
+                let line = serde_json::to_string(&row).expect("rows serialise") + "\n";
+                manifest
+                    .lock()
+                    .expect("manifest lock")
+                    .write_all(line.as_bytes())
+                    .map_err(|e| Some(Error::io(&manifest_path)(e)))?;
+                finished(&row);
+                rows.lock().expect("rows lock").push(row);
+                Ok::<_, Option<Error>>(())
+            })
+            .or_else(|e| e.map_or(Ok(()), Err))?;
         let mut rows = rows.into_inner().expect("rows lock");
         rows.sort_by_key(|r| r.index);
         write_rows(&manifest_path, &rows)?;
+        let stopped = stopped.into_inner();
+        if !stopped && count > 1 {
+            let _setup = claim.setup()?;
+            let all = read_all_rows(&self.out)?;
+            if (0..self.samples).all(|i| all.contains_key(&i)) {
+                let all: Vec<Row> = all
+                    .into_values()
+                    .filter(|r| r.index < self.samples)
+                    .collect();
+                write_rows(&self.out.join("manifest.jsonl"), &all)?;
+            }
+        }
         let mut summary = Summary {
             made: rows.len() as u64 - skipped,
             skipped,
+            stopped,
             ..Summary::default()
         };
         for r in &rows {
@@ -318,12 +397,12 @@ impl Dataset {
                 *a += b;
             }
         }
+        drop(claim);
         Ok(summary)
     }
 
     /// Writes a sample's files and returns its manifest row.
-    fn write(&self, sample: &Sample) -> Result<Row> {
-        let recipe = self.recipe(sample.index);
+    fn write(&self, recipe: &Recipe, sample: &Sample) -> Result<Row> {
         let out = &recipe.config.output;
         let split = sample.split.name();
         let stem = sample.stem();
@@ -431,35 +510,30 @@ fn write_rows(path: &Path, rows: &[Row]) -> Result<()> {
     })
 }
 
-/// The rows of a manifest; a torn last line (a run killed while appending) is dropped, and a
-/// sample listed twice counts once.
-fn read_rows(path: &Path) -> Result<Vec<Row>> {
-    let Ok(file) = std::fs::File::open(path) else {
-        return Ok(Vec::new());
-    };
+/// The rows of every manifest in `out` (the unsharded `manifest.jsonl` and each shard's), by
+/// index; a torn last line (a run killed while appending) is dropped, and a sample listed twice
+/// counts once.
+fn read_all_rows(out: &Path) -> Result<BTreeMap<u64, Row>> {
     let mut rows = BTreeMap::new();
-    for line in std::io::BufReader::new(file).lines() {
-        let line = line.map_err(Error::io(path))?;
-        if let Ok(row) = serde_json::from_str::<Row>(&line) {
-            rows.insert(row.index, row);
-        }
-    }
-    Ok(rows.into_values().collect())
-}
-
-/// Removes the temporary files a killed run of this shard left behind (those of other shards
-/// sharing the folder may be in flight).
-fn remove_stale_temporaries(dir: &Path, shard: Shard) -> Result<()> {
-    for entry in std::fs::read_dir(dir).map_err(Error::io(dir))? {
-        let path = entry.map_err(Error::io(dir))?.path();
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return Ok(rows);
+    };
+    for entry in entries {
+        let path = entry.map_err(Error::io(out))?.path();
         let name = path
             .file_name()
             .and_then(|n| n.to_str())
             .unwrap_or_default();
-        let index = name.split('_').next().and_then(|i| i.parse::<u64>().ok());
-        if name.ends_with(".tmp") && index.is_some_and(|i| i % shard.count == shard.part) {
-            std::fs::remove_file(&path).map_err(Error::io(&path))?;
+        if !(name.starts_with("manifest") && name.ends_with(".jsonl")) {
+            continue;
+        }
+        let file = std::fs::File::open(&path).map_err(Error::io(&path))?;
+        for line in std::io::BufReader::new(file).lines() {
+            let line = line.map_err(Error::io(&path))?;
+            if let Ok(row) = serde_json::from_str::<Row>(&line) {
+                rows.insert(row.index, row);
+            }
         }
     }
-    Ok(())
+    Ok(rows)
 }

@@ -7,7 +7,7 @@
 //!   which every configuration is laid over ([`overlay`], [`set_key`]), and
 //!   [`config::BUILTIN`] the shipped ones.
 //! - [`Dataset`]: a configuration planned for a folder: [`Dataset::recipe`] of each sample,
-//!   [`Dataset::prepare`] and [`Dataset::run`] to write it.
+//!   [`Dataset::prepare`] (which claims the folder, [`Claim`]) and [`Dataset::run`] to write it.
 //! - [`make`]: one [`Sample`] in memory: the motor, the [`Cell`] it lies in, and per view the
 //!   scan's cropped [`sensor::PointCloud`] with the pose and ground truth.
 //!
@@ -20,7 +20,7 @@
 //! let mut table = scene::config::builtin_table("synmotor").unwrap();
 //! scene::set_key(&mut table, "camera.views", 2.into())?;
 //! let dataset = Dataset::new(table, None, None, Shard::ALL, "out/never-written".as_ref())?;
-//! let sample = make(dataset.recipe(3), 3)?;
+//! let sample = make(&dataset.recipe(3)?, 3)?;
 //! assert_eq!(sample.views.len(), 2);
 //! let cloud = &sample.views[0].cloud;
 //! assert!(cloud.len() > 1000);
@@ -31,6 +31,7 @@
 
 pub mod augment;
 pub mod cell;
+mod claim;
 pub mod config;
 pub mod dataset;
 mod error;
@@ -42,8 +43,9 @@ pub mod sample;
 
 pub use augment::{Level, Split};
 pub use cell::{Cell, Object, Variation, compose};
+pub use claim::Claim;
 pub use config::{Config, Span, Variant, overlay, parse_value, set_key};
-pub use dataset::{Dataset, Row, Shard, Summary};
+pub use dataset::{Dataset, Prepared, Row, Shard, Summary};
 pub use error::{Error, Result};
 pub use record::SampleJson;
 pub use sample::{Recipe, Sample, make};

@@ -208,9 +208,9 @@ fn a_sample_json_reads_back_as_written() {
     scene::set_key(&mut table, "sensor.binning", 4.into()).unwrap();
     let out = std::env::temp_dir().join("never-written");
     let dataset = scene::Dataset::new(table, None, None, scene::Shard::ALL, &out).unwrap();
-    let sample = scene::make(dataset.recipe(5), 5).unwrap();
+    let sample = scene::make(&dataset.recipe(5).unwrap(), 5).unwrap();
     let files = vec![vec!["train/a.ply".to_string()]; sample.views.len()];
-    let doc = sample.json(dataset.recipe(5), &files);
+    let doc = sample.json(&dataset.recipe(5).unwrap(), &files);
     let text = doc.to_text();
     let back: scene::SampleJson = serde_json::from_str(&text).unwrap();
     let again = back.to_text();

@@ -132,9 +132,32 @@ pub fn write_motor(
     Ok(written)
 }
 
+/// This process's token in temporary file names: 16 hex digits drawn from the operating
+/// system's randomness once per process, so writers on other hosts or in other PID namespaces
+/// (where process ids repeat) never pick the same temporary name.
+pub fn writer_token() -> &'static str {
+    static TOKEN: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TOKEN.get_or_init(|| {
+        use std::hash::{BuildHasher, RandomState};
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        let token = RandomState::new().hash_one((std::process::id(), now));
+        format!("{token:016x}")
+    })
+}
+
+/// The writer token of a temporary file name `{name}.{token}.tmp` that [`write_atomic`] makes.
+pub fn temporary_token(file_name: &str) -> Option<&str> {
+    let stem = file_name.strip_suffix(".tmp")?;
+    let (_, token) = stem.rsplit_once('.')?;
+    (token.len() == 16 && token.bytes().all(|b| b.is_ascii_hexdigit())).then_some(token)
+}
+
 /// Writes a file through a buffered temporary file in the same folder, then renames it: a killed
 /// process leaves the old file or the new one, never a part. (No fsync: that would add
-/// power-loss durability at about thirty times the cost of a motor's files.)
+/// power-loss durability at about thirty times the cost of a motor's files.) The temporary file
+/// is `{name}.{token}.tmp` with this process's [`writer_token`].
 ///
 /// # Errors
 ///
@@ -144,12 +167,9 @@ pub fn write_atomic(
     path: &Path,
     body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {
-    // the process id keeps processes writing the same file (shards sharing a folder) apart
-    let tmp = path.with_extension(format!(
-        "{}.{}.tmp",
-        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
-        std::process::id()
-    ));
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".{}.tmp", writer_token()));
+    let tmp = path.with_file_name(name);
     let result = (|| {
         let mut w = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
         body(&mut w)?;

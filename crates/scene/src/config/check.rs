@@ -2,7 +2,7 @@
 
 use motorgen::Scheme;
 
-use super::{Config, Rig};
+use super::{Config, Rig, sweep};
 use crate::error::{Error, Result};
 
 impl Config {
@@ -119,9 +119,7 @@ impl Config {
                 "at least one of ply, pcd, pcd-ascii, npy, npz (or images = true)",
             ));
         }
-        for s in &self.sweep {
-            s.values()?;
-        }
+        sweep::Combinations::new(&self.sweep)?;
         Ok(())
     }
 

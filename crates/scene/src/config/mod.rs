@@ -12,7 +12,7 @@ use sensor::formats::CloudFormat;
 use sensor::{Frame, Noise, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
-pub use sweep::Sweep;
+pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
 pub use table::{BUILTIN, builtin_table, default_table, overlay, parse_value, set_key};
 
 use crate::error::{Error, Result};

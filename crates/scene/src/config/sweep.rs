@@ -1,8 +1,12 @@
-//! Parameter sweeps: every combination of the listed keys' values.
+//! Parameter sweeps: every combination of the listed keys' values, each worked out when a
+//! sample needs it (a sweep of 100,000 combinations costs nothing up front).
 
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+
+/// The most combinations a configuration's sweeps may have.
+pub const MAX_COMBINATIONS: u64 = 100_000;
 
 /// One swept key and its values.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -13,50 +17,132 @@ pub struct Sweep {
     /// The values.
     pub list: Option<Vec<toml::Value>>,
     /// `[first, last, count]`: evenly spaced.
-    pub linspace: Option<(f64, f64, u32)>,
+    pub linspace: Option<(f64, f64, u64)>,
     /// `[start, stop, step]`: start, start + step, ... up to stop.
     pub grid: Option<(f64, f64, f64)>,
 }
 
 impl Sweep {
-    /// The values of the sweep, checked.
+    /// The number of values, checked.
     ///
     /// # Errors
     ///
-    /// [`Error::Config`] unless exactly one of `list`, `linspace` and `grid`
-    /// is given, non-empty and finite.
-    pub fn values(&self) -> Result<Vec<toml::Value>> {
+    /// [`Error::Config`] unless exactly one of `list`, `linspace` and `grid` is given,
+    /// non-empty, finite, and with at most [`MAX_COMBINATIONS`] values.
+    pub fn count(&self) -> Result<u64> {
         let key = format!("sweep {}", self.key);
-        let values = match (&self.list, self.linspace, self.grid) {
-            (Some(list), None, None) => list.clone(),
-            (None, Some((a, b, n)), None) if n >= 1 && a.is_finite() && b.is_finite() => (0..n)
-                .map(|i| {
-                    let t = if n == 1 {
-                        0.0
-                    } else {
-                        i as f64 / (n - 1) as f64
-                    };
-                    toml::Value::Float(a + (b - a) * t)
-                })
-                .collect(),
+        let n = match (&self.list, self.linspace, self.grid) {
+            (Some(list), None, None) => list.len() as u64,
+            (None, Some((a, b, n)), None) if a.is_finite() && b.is_finite() => n,
             (None, None, Some((a, b, step)))
-                if step > 0.0 && a <= b && (b - a) / step <= 1e5 && a.is_finite() =>
+                if a.is_finite() && b.is_finite() && step > 0.0 && a <= b =>
             {
-                let n = ((b - a) / step + 1e-9).floor() as u64;
-                (0..=n)
-                    .map(|i| toml::Value::Float(a + step * i as f64))
-                    .collect()
+                let steps = ((b - a) / step + 1e-9).floor();
+                if steps >= MAX_COMBINATIONS as f64 {
+                    u64::MAX
+                } else {
+                    steps as u64 + 1
+                }
             }
             _ => {
                 return Err(Error::Config(format!(
-                    "{key}: give exactly one of list = [...], linspace = [first, last, count >= 1] \
-                     or grid = [start, stop, step > 0]"
+                    "{key}: give exactly one of list = [...], linspace = [first, last, count] \
+                     or grid = [start, stop, step] with finite numbers, start <= stop and \
+                     step > 0"
                 )));
             }
         };
-        if values.is_empty() {
-            return Err(Error::Config(format!("{key}: the list is empty")));
+        if !(1..=MAX_COMBINATIONS).contains(&n) {
+            return Err(Error::Config(format!(
+                "{key}: {} values; a sweep takes 1 to {MAX_COMBINATIONS}",
+                if n == u64::MAX {
+                    "too many".to_string()
+                } else {
+                    n.to_string()
+                }
+            )));
         }
-        Ok(values)
+        Ok(n)
+    }
+
+    /// Value `k` (below [`Sweep::count`]).
+    pub fn value(&self, k: u64) -> toml::Value {
+        match (&self.list, self.linspace, self.grid) {
+            (Some(list), _, _) => list[k as usize].clone(),
+            (_, Some((a, b, n)), _) => {
+                let t = if n <= 1 {
+                    0.0
+                } else {
+                    k as f64 / (n - 1) as f64
+                };
+                toml::Value::Float(a + (b - a) * t)
+            }
+            (_, _, Some((a, _, step))) => toml::Value::Float(a + step * k as f64),
+            _ => unreachable!("a checked sweep has values"),
+        }
+    }
+}
+
+/// The sweeps of a configuration as one mixed-radix counter, the last sweep the fastest:
+/// combination `c` takes value `c % n` of the last sweep (of `n` values), `(c / n) % m` of the
+/// one before (of `m`), and so on.
+#[derive(Clone, Debug, Default)]
+pub struct Combinations {
+    sweeps: Vec<(Sweep, u64)>,
+    total: u64,
+}
+
+impl Combinations {
+    /// Checks every sweep and their product.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] for a sweep [`Sweep::count`] refuses, a key inside `[[sweep]]`, or more
+    /// than [`MAX_COMBINATIONS`] combinations in all.
+    pub fn new(sweeps: &[Sweep]) -> Result<Combinations> {
+        let mut total = 1u64;
+        let mut out = Vec::new();
+        for s in sweeps {
+            if s.key.split('.').next() == Some("sweep") {
+                return Err(Error::invalid(
+                    "sweep key",
+                    &s.key,
+                    "a key outside [[sweep]]",
+                ));
+            }
+            let n = s.count()?;
+            total = total
+                .checked_mul(n)
+                .filter(|&t| t <= MAX_COMBINATIONS)
+                .ok_or_else(|| {
+                    Error::Config(format!(
+                        "sweep: more than {MAX_COMBINATIONS} combinations of values"
+                    ))
+                })?;
+            out.push((s.clone(), n));
+        }
+        Ok(Combinations { sweeps: out, total })
+    }
+
+    /// The number of combinations (1 without sweeps).
+    pub fn total(&self) -> u64 {
+        self.total
+    }
+
+    /// The keys and values of combination `c` (taken modulo the total).
+    pub fn get(&self, c: u64) -> Vec<(String, toml::Value)> {
+        let mut rest = c % self.total;
+        let mut values: Vec<(String, toml::Value)> = self
+            .sweeps
+            .iter()
+            .rev()
+            .map(|(s, n)| {
+                let k = rest % n;
+                rest /= n;
+                (s.key.clone(), s.value(k))
+            })
+            .collect();
+        values.reverse();
+        values
     }
 }
