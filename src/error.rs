@@ -59,3 +59,17 @@ pub fn jobs(text: &str) -> Result<usize, String> {
         .filter(|n| (1..=most).contains(n))
         .ok_or_else(|| format!("expected a whole number from 1 to {most} (4 x {cores} cores)"))
 }
+
+/// `value` as a message shows it: at most 40 characters (the rest elided with `…`), control
+/// characters escaped.
+pub fn shown(value: &str) -> String {
+    let mut out: String = value
+        .chars()
+        .take(40)
+        .flat_map(char::escape_debug)
+        .collect();
+    if value.chars().nth(40).is_some() {
+        out.push('…');
+    }
+    out
+}

@@ -7,6 +7,7 @@ use scene::config::{BUILTIN, builtin_table, default_table};
 use scene::{Dataset, Shard, overlay, parse_value, set_key};
 
 use crate::error::{CliError, CliResult, choice};
+use crate::memory;
 use crate::progress::Progress;
 use crate::signals::Signals;
 
@@ -115,13 +116,26 @@ impl GenerateCmd {
         let shard = Shard::parse(&self.shard).map_err(scene_error)?;
         let dataset = Dataset::new(self.table()?, self.samples, self.seed, shard, &self.out)
             .map_err(scene_error)?;
+        let jobs = self.jobs.unwrap_or_else(rayon::current_num_threads);
+        let first = dataset.recipe(0).map_err(scene_error)?;
+        let sensor = &first.sensor().intrinsics;
+        memory::ensure_fits(
+            dataset.memory_needed(jobs),
+            &format!(
+                "this dataset ({} samples in this run, {jobs} jobs, a {}x{} sensor)",
+                dataset.shard_samples(),
+                sensor.width,
+                sensor.height
+            ),
+            "lower --jobs, -n or the sensor's resolution (sensor.binning)",
+        )?;
         let prepared = dataset.prepare(self.resume).map_err(scene_error)?;
         let progress = Progress::new(dataset.shard_samples(), "samples", self.quiet);
         for _ in prepared.done() {
             progress.tick();
         }
         let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.jobs.unwrap_or(0))
+            .num_threads(jobs)
             .build()
             .map_err(|e| CliError::Runtime(e.to_string()))?;
         let summary = pool

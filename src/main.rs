@@ -2,6 +2,7 @@
 
 mod error;
 mod generate;
+mod memory;
 mod meshio;
 mod motors;
 mod preview;

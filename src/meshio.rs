@@ -19,6 +19,24 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
+    if !["obj", "stl", "ply"].contains(&ext.as_str()) {
+        return Err(bad(format!(
+            "unknown extension \"{}\": expected obj, stl or ply",
+            crate::error::shown(&ext)
+        )));
+    }
+    // only regular files: a FIFO or a device would block or never end
+    let unreadable = |e: std::io::Error| {
+        bad(match e.kind() {
+            std::io::ErrorKind::NotFound => "no such file".into(),
+            std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+            _ => e.to_string(),
+        })
+    };
+    if !std::fs::metadata(path).map_err(unreadable)?.is_file() {
+        return Err(bad("not a regular file".into()));
+    }
+    let bytes = std::fs::read(path).map_err(unreadable)?;
     let targets = match ext.as_str() {
         "obj" => {
             let options = tobj::LoadOptions {
@@ -26,7 +44,11 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
                 single_index: true,
                 ..Default::default()
             };
-            let (models, _) = tobj::load_obj(path, &options).map_err(|e| bad(e.to_string()))?;
+            // materials are not used: an `mtllib` line is never followed
+            let (models, _) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| {
+                Ok((Vec::new(), Default::default()))
+            })
+            .map_err(|e| bad(format!("not a valid OBJ file: {}", obj_error(&e))))?;
             let mut positions = Vec::new();
             let mut triangles = Vec::new();
             for m in models {
@@ -42,8 +64,9 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
             vec![target(positions, triangles, Classes::Uniform(1), 1)]
         }
         "stl" => {
-            let mut f = std::fs::File::open(path).map_err(|e| bad(e.to_string()))?;
-            let stl = stl_io::read_stl(&mut f).map_err(|e| bad(e.to_string()))?;
+            check_stl_size(&bytes).map_err(bad)?;
+            let stl = stl_io::read_stl(&mut std::io::Cursor::new(&bytes))
+                .map_err(|e| bad(format!("not a valid STL file: {}", io_error(&e))))?;
             let positions = stl
                 .vertices
                 .iter()
@@ -56,12 +79,7 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
                 .collect();
             vec![target(positions, triangles, Classes::Uniform(1), 1)]
         }
-        "ply" => read_ply(path).map_err(bad)?,
-        _ => {
-            return Err(bad(format!(
-                "unknown extension \"{ext}\": expected obj, stl or ply"
-            )));
-        }
+        _ => read_ply(&bytes).map_err(|e| bad(format!("not a valid PLY file: {e}")))?,
     };
     if targets.iter().all(|t| t.triangles.is_empty()) {
         return Err(bad("it holds no triangles".into()));
@@ -111,12 +129,60 @@ pub fn number(p: &Property) -> Option<f64> {
     })
 }
 
+/// An OBJ reader's error in words.
+fn obj_error(e: &tobj::LoadError) -> &'static str {
+    use tobj::LoadError as E;
+    match e {
+        E::OpenFileFailed | E::ReadError => "the file cannot be read as text",
+        E::UnrecognizedCharacter => "it holds a character OBJ does not allow",
+        E::PositionParseError | E::NormalParseError | E::TexcoordParseError => {
+            "a vertex line does not hold numbers"
+        }
+        E::ScalingByZeroError => "a vertex has w = 0",
+        E::ColorParseError => "a vertex colour has too many or too few numbers",
+        E::FaceParseError | E::InvalidPolygon => "a face line is not a polygon of vertex indices",
+        E::FaceVertexOutOfBounds
+        | E::FaceTexCoordOutOfBounds
+        | E::FaceNormalOutOfBounds
+        | E::FaceColorOutOfBounds => "a face refers to a vertex that does not exist",
+        _ => "its text is not OBJ",
+    }
+}
+
+/// A mesh reader's I/O error in words.
+fn io_error(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::UnexpectedEof => "the file ends early".into(),
+        std::io::ErrorKind::InvalidData => "its text is not valid UTF-8 or not STL".into(),
+        kind => kind.to_string(),
+    }
+}
+
+/// A binary STL's size must be what its triangle count says; an ASCII one starts with `solid`.
+fn check_stl_size(bytes: &[u8]) -> Result<(), String> {
+    let Some(count) = bytes.get(80..84) else {
+        return Err(format!("{} bytes, too short for STL", bytes.len()));
+    };
+    let count = u32::from_le_bytes(count.try_into().expect("4 bytes")) as u64;
+    let expected = 84 + 50 * count;
+    if expected == bytes.len() as u64 || bytes.starts_with(b"solid") {
+        Ok(())
+    } else {
+        Err(format!(
+            "a binary STL of {count} triangles has {expected} bytes, but the file has {}",
+            bytes.len()
+        ))
+    }
+}
+
 /// A PLY mesh; with per-face `instance`, one target per instance.
-fn read_ply(path: &Path) -> Result<Vec<Target>, String> {
-    let mut f = std::io::BufReader::new(std::fs::File::open(path).map_err(|e| e.to_string())?);
+fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
     let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut f)
-        .map_err(|e| e.to_string())?;
+        .read_ply(&mut &bytes[..])
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::UnexpectedEof => "the file ends early".to_string(),
+            _ => crate::error::shown(&e.to_string()),
+        })?;
     let vertices = ply.payload.get("vertex").ok_or("no vertex element")?;
     let positions: Vec<Vec3> = vertices
         .iter()
@@ -161,22 +227,26 @@ fn read_ply(path: &Path) -> Result<Vec<Target>, String> {
             group.1.push(class);
         }
     }
-    // each instance keeps only the vertices its triangles use
+    // each instance keeps only the vertices its triangles use: a vertex's slot in the instance
+    // that used it last, so that many instances cost no more than one
+    let mut owner = vec![usize::MAX; positions.len()];
+    let mut slot = vec![0u32; positions.len()];
     Ok(groups
         .into_iter()
-        .map(|(inst, (triangles, classes))| {
-            let mut remap = vec![u32::MAX; positions.len()];
+        .enumerate()
+        .map(|(g, (inst, (triangles, classes)))| {
             let mut used = Vec::new();
             let triangles = triangles
                 .into_iter()
                 .map(|t| {
                     t.map(|i| {
-                        let slot = &mut remap[i as usize];
-                        if *slot == u32::MAX {
-                            *slot = used.len() as u32;
-                            used.push(positions[i as usize]);
+                        let i = i as usize;
+                        if owner[i] != g {
+                            owner[i] = g;
+                            slot[i] = used.len() as u32;
+                            used.push(positions[i]);
                         }
-                        *slot
+                        slot[i]
                     })
                 })
                 .collect();

@@ -90,6 +90,14 @@ impl ScanCmd {
         spec.intrinsics = spec.intrinsics.binned(self.binning);
         spec.validate()
             .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
+        crate::memory::ensure_fits(
+            spec.scan_memory(),
+            &format!(
+                "a scan with a {}x{} sensor",
+                spec.intrinsics.width, spec.intrinsics.height
+            ),
+            "scan at a lower resolution (--binning 2 or 4)",
+        )?;
         let v = numbers("look-at", &self.look_at, 6)?;
         let up = numbers("up", &self.up, 3)?;
         let pose = look_at(

@@ -548,3 +548,185 @@ fn scan_files_are_identical_for_one_and_two_threads() {
     assert_eq!(one.len(), 11); // 3 clouds, 7 images, scan.json
     assert!(one == two, "scan files differ between 1 and 2 threads");
 }
+
+/// A `scan` of `mesh` from 2 m into `out`.
+fn scan_mesh(mesh: &Path, out: &Path) -> Output {
+    motorfactory()
+        .args([
+            "scan",
+            "--binning",
+            "4",
+            "--look-at",
+            "0,0,-2,0,0,0",
+            "--mesh",
+        ])
+        .arg(mesh)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn meshes_are_read_only_from_regular_files_and_only_as_far_as_they_say() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    // an OBJ whose material library is an endless device: materials are never read
+    let obj = dir.path().join("zero.obj");
+    std::fs::write(
+        &obj,
+        "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let o = scan_mesh(&obj, &dir.path().join("zero"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    // a FIFO is refused at once instead of waiting for a writer
+    let fifo = dir.path().join("pipe.ply");
+    assert!(
+        std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let o = scan_mesh(&fifo, &out);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    // a binary STL that says 1 triangle but holds 2
+    let mut stl = vec![0u8; 80];
+    stl.extend(1u32.to_le_bytes());
+    stl.extend(vec![0u8; 100]);
+    let short = dir.path().join("short.stl");
+    std::fs::write(&short, &stl).unwrap();
+    let o = scan_mesh(&short, &out);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("a binary STL of 1 triangles has 134 bytes, but the file has 184"),
+        "{}",
+        stderr(&o)
+    );
+    // a truncated binary STL and a binary file posing as OBJ: in words, no raw bytes
+    let cut = dir.path().join("cut.stl");
+    std::fs::write(&cut, &stl[..120]).unwrap();
+    let nul = dir.path().join("nul.obj");
+    std::fs::write(&nul, b"v 0 0 0\n\0\0\xff\xfe binary\n").unwrap();
+    for (mesh, says) in [(&cut, "134 bytes"), (&nul, "not a valid OBJ file")] {
+        let o = scan_mesh(mesh, &out);
+        assert_eq!(o.status.code(), Some(2));
+        let err = stderr(&o);
+        assert!(err.contains(says), "{err}");
+        assert!(!err.contains('\0') && err.len() < 300, "{err}");
+    }
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_ply_with_an_instance_per_face_keeps_each_instance_and_its_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    // a strip of 2,000 triangles, each its own instance, sharing vertices with its neighbours
+    let n = 2000;
+    let mut ply = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
+         property float z\nelement face {n}\nproperty list uchar int vertex_indices\n\
+         property ushort class\nproperty uint instance\nend_header\n",
+        n + 2
+    );
+    for i in 0..n + 2 {
+        ply += &format!(
+            "{} {} 0\n",
+            (i / 2) as f32 * 0.001 - 0.5,
+            (i % 2) as f32 * 0.01
+        );
+    }
+    for i in 0..n {
+        ply += &format!("3 {i} {} {} {} {}\n", i + 1, i + 2, 1 + i % 5, i + 1);
+    }
+    let mesh = dir.path().join("strip.ply");
+    std::fs::write(&mesh, ply).unwrap();
+    let out = dir.path().join("scan");
+    let o = motorfactory()
+        .args([
+            "scan",
+            "--sensor",
+            "ideal",
+            "--look-at",
+            "0,0,-1,0,0,0",
+            "--format",
+            "npz",
+        ])
+        .arg("--mesh")
+        .arg(&mesh)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = stderr(&o);
+    assert!(summary.contains(&format!("({n} triangles)")), "{summary}");
+}
+
+#[test]
+fn work_that_cannot_fit_is_refused_before_anything_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let o_str = out.to_str().unwrap();
+    let mut spec = sensor::SensorSpec::preset("ideal").unwrap();
+    spec.intrinsics.width = 16384;
+    spec.intrinsics.height = 16384;
+    let mut config = toml::Table::new();
+    config.insert("sensor".into(), toml::toml! { binning = 1 }.into());
+    config["sensor"]
+        .as_table_mut()
+        .unwrap()
+        .insert("spec".into(), toml::Value::try_from(&spec).unwrap());
+    let huge_config = dir.path().join("huge-config.toml");
+    std::fs::write(&huge_config, toml::to_string(&config).unwrap()).unwrap();
+    let sweep = dir.path().join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        "[[sweep]]\nkey = \"camera.distance\"\nlinspace = [0, 10, 4294967295]\n",
+    )
+    .unwrap();
+    let max_jobs = (4 * std::thread::available_parallelism().unwrap().get()).to_string();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["generate", "-n", "9223372036854775807", "--out", o_str],
+            "of memory",
+        ),
+        (
+            vec!["generate", "-n", "1000000000", "--out", o_str],
+            "lower --jobs, -n",
+        ),
+        (
+            vec![
+                "generate",
+                "--config",
+                sweep.to_str().unwrap(),
+                "--out",
+                o_str,
+            ],
+            "4294967295 values; a sweep takes 1 to 100000",
+        ),
+        (
+            vec![
+                "generate",
+                "--jobs",
+                &max_jobs,
+                "--config",
+                huge_config.to_str().unwrap(),
+                "--out",
+                o_str,
+            ],
+            "16384x16384",
+        ),
+        (
+            vec!["generate", "--jobs", "100000", "--out", o_str],
+            "--jobs",
+        ),
+        (
+            vec!["motors", "-n", "2", "--jobs", "0", "--out", o_str],
+            "--jobs",
+        ),
+    ];
+    assert_refused(&cases, &out);
+}

@@ -299,9 +299,17 @@ fn pick_index(n: usize, rng: &mut ChaCha8Rng) -> usize {
 }
 
 fn pick_weighted(weights: &[f64], rng: &mut ChaCha8Rng) -> usize {
-    let mut target = unit(rng) * weights.iter().sum::<f64>();
+    // weights whose sum overflows are scaled by the largest first
+    let sum: f64 = weights.iter().sum();
+    let scale = if sum.is_finite() {
+        1.0
+    } else {
+        1.0 / weights.iter().copied().fold(0.0, f64::max)
+    };
+    let mut target = unit(rng) * weights.iter().map(|w| w * scale).sum::<f64>();
     for (i, w) in weights.iter().enumerate() {
-        if target < *w {
+        let w = w * scale;
+        if target < w {
             return i;
         }
         target -= w;

@@ -179,3 +179,13 @@ fn written_parameters_read_back_identically() {
         assert_eq!(p, json);
     }
 }
+
+#[test]
+fn huge_weights_draw_every_value_in_proportion() {
+    // weights whose sum overflows f64 still mean equal shares
+    let p = space(r#"type = { choice = ["A", "B"], weights = [1e308, 1e308] }"#).unwrap();
+    let a = (0..400)
+        .filter(|&s| p.sample(s).unwrap().variant().starts_with('A'))
+        .count();
+    assert!((150..250).contains(&a), "{a} of 400 are type A");
+}

@@ -225,6 +225,23 @@ impl Dataset {
         }
     }
 
+    /// Memory a run with `jobs` worker threads needs at its peak, in bytes: per thread a
+    /// sample's scans (each view's, when images or whole-scene clouds keep them) and its motor
+    /// and world (16 MB), and the manifest's rows (512 bytes a sample) kept to sort them.
+    pub fn memory_needed(&self, jobs: usize) -> u64 {
+        let c = &self.base.config;
+        let views = if c.output.images || c.output.scene_cloud {
+            u64::from(c.camera.views)
+        } else {
+            1
+        };
+        let per_job = views * self.base.sensor().scan_memory() + (16 << 20);
+        (jobs as u64)
+            .saturating_mul(per_job)
+            .saturating_add(self.shard_samples().saturating_mul(512))
+            .saturating_add(32 << 20)
+    }
+
     /// The label scheme of the dataset's samples.
     pub fn scheme(&self) -> Scheme {
         self.base.config.output.scheme

@@ -91,6 +91,11 @@ impl Recipe {
             sensor,
         })
     }
+
+    /// The sensor, binning applied.
+    pub fn sensor(&self) -> &SensorSpec {
+        &self.sensor
+    }
 }
 
 /// One view of a sample.
