@@ -44,8 +44,10 @@ pub fn choice<T: Copy>(flag: &str, value: &str, options: &[(&str, T)]) -> CliRes
         .ok_or_else(|| {
             let names: Vec<&str> = options.iter().map(|(n, _)| *n).collect();
             CliError::Usage(format!(
-                "--{flag} \"{value}\" is not allowed: expected one of {}",
-                names.join(", ")
+                "--{flag} \"{}\" is not allowed: expected one of {}{}",
+                motorgen::shown(value),
+                names.join(", "),
+                motorgen::did_you_mean(value, names.iter().copied())
             ))
         })
 }
@@ -60,16 +62,16 @@ pub fn jobs(text: &str) -> Result<usize, String> {
         .ok_or_else(|| format!("expected a whole number from 1 to {most} (4 x {cores} cores)"))
 }
 
-/// `value` as a message shows it: at most 40 characters (the rest elided with `…`), control
-/// characters escaped.
-pub fn shown(value: &str) -> String {
-    let mut out: String = value
-        .chars()
-        .take(40)
-        .flat_map(char::escape_debug)
-        .collect();
-    if value.chars().nth(40).is_some() {
-        out.push('…');
-    }
-    out
+/// A count (`-n`): a whole number from 1.
+pub fn count(text: &str) -> Result<u64, String> {
+    text.parse::<u64>()
+        .ok()
+        .filter(|&n| n >= 1)
+        .ok_or_else(|| "must be a positive whole number (1, 2, 3, ...)".into())
+}
+
+/// A seed: a whole number from 0 to 2^64 - 1.
+pub fn seed(text: &str) -> Result<u64, String> {
+    text.parse::<u64>()
+        .map_err(|_| "must be a whole number from 0 to 18446744073709551615".into())
 }

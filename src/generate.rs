@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use scene::config::{BUILTIN, builtin_table, default_table};
+use scene::config::{BUILTIN, builtin_table, default_table, in_words};
 use scene::{Dataset, Shard, overlay, parse_value, set_key};
 
 use crate::error::{CliError, CliResult, choice};
@@ -22,10 +22,10 @@ pub struct GenerateCmd {
     #[arg(long)]
     out: PathBuf,
     /// Number of samples (default: the config's `samples`).
-    #[arg(short = 'n', long = "samples")]
+    #[arg(short = 'n', long = "samples", allow_negative_numbers = true, value_parser = crate::error::count)]
     samples: Option<u64>,
     /// Global seed (default: the config's `seed`).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::error::seed)]
     seed: Option<u64>,
     /// Worker threads, 1 to 4 x the cores (default: all cores).
     #[arg(long, value_parser = crate::error::jobs)]
@@ -60,15 +60,10 @@ impl ConfigCmd {
     /// Runs the command.
     pub fn run(&self) -> CliResult<()> {
         match (&self.print, self.list) {
-            (Some(name), _) => {
-                print!("{}", choice("print", name, &BUILTIN)?);
-                Ok(())
-            }
+            (Some(name), _) => crate::print_out(choice("print", name, &BUILTIN)?),
             (None, true) => {
-                for (name, _) in BUILTIN {
-                    println!("{name}");
-                }
-                Ok(())
+                let names: String = BUILTIN.iter().map(|(n, _)| format!("{n}\n")).collect();
+                crate::print_out(&names)
             }
             (None, false) => Err(CliError::Usage("give --print NAME or --list".into())),
         }
@@ -90,10 +85,22 @@ impl GenerateCmd {
         let mut table = match builtin_table(name) {
             Some(table) => table,
             None => {
-                let text = std::fs::read_to_string(name)
-                    .map_err(|e| CliError::Usage(format!("config {name}: {e}")))?;
-                let top = toml::from_str(&text)
-                    .map_err(|e| CliError::Usage(format!("config {name}: {e}")))?;
+                let shown = motorgen::shown(name);
+                let text = std::fs::read_to_string(name).map_err(|e| {
+                    let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
+                    CliError::Usage(match e.kind() {
+                        std::io::ErrorKind::NotFound => format!(
+                            "--config {shown}: no such file, and no built-in configuration of \
+                             that name (built-in: {}){}",
+                            names.join(", "),
+                            motorgen::did_you_mean(name, names.iter().copied())
+                        ),
+                        _ => format!("--config {shown}: {e}"),
+                    })
+                })?;
+                let top = toml::from_str(&text).map_err(|e| {
+                    CliError::Usage(format!("--config {shown}: {}", in_words(&e.to_string())))
+                })?;
                 let mut table = default_table();
                 overlay(&mut table, top);
                 table
@@ -165,7 +172,7 @@ impl GenerateCmd {
                 .filter(|(_, n)| **n > 0)
                 .map(|(c, n)| format!("{} {n}", c.name))
                 .collect();
-            eprintln!(
+            note!(
                 "{} samples made ({} already done) in {seconds:.1} s ({:.2} samples/s), {} points; \
                  classes: {}; written to {}",
                 summary.made,

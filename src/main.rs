@@ -1,5 +1,14 @@
 //! motorfactory: synthetic, labelled 3D training data of small electric gear motors.
 
+/// Writes a line to standard error; a closed or full stderr is ignored (there is nowhere left to
+/// say so).
+macro_rules! note {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod error;
 mod generate;
 mod memory;
@@ -50,7 +59,29 @@ fn main() {
         Command::Preview(cmd) => cmd.run(),
     };
     if let Err(e) = result {
-        eprintln!("error: {e}");
+        note!("error: {}", printable(&e.to_string()));
         std::process::exit(e.exit_code());
     }
+}
+
+/// Writes `text` to standard output. A reader that went away (a closed pipe, as with `| head`)
+/// ends the output quietly; any other failure (a full disk) is an error.
+pub(crate) fn print_out(text: &str) -> error::CliResult<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other
+            .map_err(|e| error::CliError::Runtime(format!("cannot write to standard output: {e}"))),
+    }
+}
+
+/// An error message as printed: control characters but line breaks escaped, and each line at
+/// most 400 characters, whatever the input quoted.
+fn printable(message: &str) -> String {
+    message
+        .lines()
+        .map(|line| motorgen::cut(line, 400))
+        .collect::<Vec<_>>()
+        .join("\n")
 }

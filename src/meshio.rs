@@ -22,7 +22,7 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
     if !["obj", "stl", "ply"].contains(&ext.as_str()) {
         return Err(bad(format!(
             "unknown extension \"{}\": expected obj, stl or ply",
-            crate::error::shown(&ext)
+            motorgen::shown(&ext)
         )));
     }
     // only regular files: a FIFO or a device would block or never end
@@ -181,7 +181,7 @@ fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
         .read_ply(&mut &bytes[..])
         .map_err(|e| match e.kind() {
             std::io::ErrorKind::UnexpectedEof => "the file ends early".to_string(),
-            _ => crate::error::shown(&e.to_string()),
+            _ => motorgen::shown(&e.to_string()),
         })?;
     let vertices = ply.payload.get("vertex").ok_or("no vertex element")?;
     let positions: Vec<Vec3> = vertices

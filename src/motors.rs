@@ -1,6 +1,5 @@
 //! `motor`, `motors` and `params`: motor meshes from parameters, one or many.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -57,7 +56,7 @@ pub struct MeshArgs {
     #[arg(long)]
     config: Option<PathBuf>,
     /// Global seed.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::error::seed)]
     seed: Option<u64>,
     /// Mesh formats, comma-separated: obj, stl, ply, glb.
     #[arg(long, value_delimiter = ',')]
@@ -184,7 +183,7 @@ impl MotorCmd {
         let motor = plan.motor(plan.seed)?;
         plan.write(&motor, &plan.out)?;
         let triangles: usize = motor.parts.iter().map(|p| p.mesh.triangle_count()).sum();
-        eprintln!(
+        note!(
             "motor {} ({} parts, {triangles} triangles) written to {}",
             motor.attributes.variant,
             motor.parts.len(),
@@ -211,7 +210,7 @@ pub struct MotorsCmd {
     #[command(flatten)]
     mesh: MeshArgs,
     /// Number of motors.
-    #[arg(short = 'n', long)]
+    #[arg(short = 'n', long, allow_negative_numbers = true, value_parser = crate::error::count)]
     count: u64,
     /// Worker threads, 1 to 4 x the cores (default: all cores).
     #[arg(long, value_parser = crate::error::jobs)]
@@ -251,7 +250,7 @@ impl MotorsCmd {
         .map_err(|e| CliError::Runtime(e.to_string()))?;
         let (done, secs) = progress.finish();
         if !self.quiet {
-            eprintln!(
+            note!(
                 "{done} motors in {secs:.1} s ({:.1}/s) written to {}",
                 done as f64 / secs.max(1e-9),
                 plan.out.display()
@@ -285,9 +284,6 @@ impl ParamsCmd {
                 format!("{key}\n    {allowed}; default {default}\n    {doc}\n\n")
             });
         }
-        match std::io::stdout().lock().write_all(text.as_bytes()) {
-            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-            other => other.map_err(|e| CliError::Runtime(e.to_string())),
-        }
+        crate::print_out(&text)
     }
 }

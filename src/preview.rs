@@ -53,7 +53,7 @@ impl PreviewCmd {
         };
         write_atomic(&self.out, &|w| image.write_png(w))
             .map_err(|e| CliError::Runtime(e.to_string()))?;
-        eprintln!(
+        note!(
             "{}x{} preview written to {}",
             image.width,
             image.height,

@@ -52,7 +52,7 @@ impl Progress {
             let mut last = last.lock().expect("progress lock");
             if last.elapsed() >= PLAIN_EVERY {
                 *last = Instant::now();
-                eprintln!(
+                note!(
                     "{done}/{} {} ({:.1}/s)",
                     self.total,
                     self.what,

@@ -71,9 +71,22 @@ fn read_sensor(name: &str) -> CliResult<SensorSpec> {
     if Path::new(name).extension().is_some_and(|e| e == "toml") {
         let text =
             std::fs::read_to_string(name).map_err(|e| CliError::Usage(format!("{name}: {e}")))?;
-        toml::from_str(&text).map_err(|e| CliError::Usage(format!("{name}: {e}")))
+        toml::from_str(&text).map_err(|e| {
+            CliError::Usage(format!(
+                "{}: {}",
+                motorgen::shown(name),
+                scene::config::in_words(&e.to_string())
+            ))
+        })
     } else {
-        SensorSpec::preset(name).map_err(|e| CliError::Usage(e.to_string()))
+        SensorSpec::preset(name).map_err(|_| {
+            CliError::Usage(format!(
+                "--sensor \"{}\" is not allowed: expected a preset ({}) or a .toml file{}",
+                motorgen::shown(name),
+                sensor::PRESETS.join(", "),
+                motorgen::did_you_mean(name, sensor::PRESETS.iter().copied())
+            ))
+        })
     }
 }
 
@@ -180,7 +193,7 @@ impl ScanCmd {
             serde_json::to_writer_pretty(&mut *w, &summary)?;
             w.write_all(b"\n")
         })?;
-        eprintln!(
+        note!(
             "{} points from {} of {} pixels ({} triangles) in {:.2} s, written to {}",
             cloud.len(),
             result.valid_count(),

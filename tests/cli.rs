@@ -424,7 +424,7 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
                 "--out",
                 o_str,
             ],
-            "unknown sensor preset \"zivid-9\"",
+            "--sensor \"zivid-9\" is not allowed: expected a preset",
         ),
         (
             vec![
@@ -729,4 +729,129 @@ fn work_that_cannot_fit_is_refused_before_anything_is_written() {
         ),
     ];
     assert_refused(&cases, &out);
+}
+
+#[test]
+fn messages_say_what_is_allowed_in_words_and_stay_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let o_str = out.to_str().unwrap();
+    let long = format!("camera.rig=\"{}\"", "x".repeat(100_000));
+    let nul = dir.path().join("nul.toml");
+    std::fs::write(&nul, b"seed = \"\0\0\0\"\n").unwrap();
+    let set = |kv: &'static str| vec!["generate", "--set", kv, "--out", o_str];
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            set("camera.distance=\"far\""),
+            "expected a number or [min, max]",
+        ),
+        (set("camera.distance=[1, 2, 3]"), "a number or [min, max]"),
+        (set("camera.views=\"two\""), "expected a whole number"),
+        (set("seed=-1"), "expected a whole number from 0"),
+        (set("motor=3"), "expected a table"),
+        (set("motor.variants=\"A0\""), "expected a list"),
+        (set("cell.clearance=[1]"), "expected a number"),
+        (set("augment.clean.occluders=1"), "expected true or false"),
+        (set("camera.distanse=1"), "did you mean `distance`?"),
+        (set("output.formats=[\"plyy\"]"), "did you mean `ply`?"),
+        (
+            set("sensor.preset=zivid-2plus-m6"),
+            "did you mean `zivid-2plus-m60`?",
+        ),
+        (set("samples=0"), "samples = 0 is not allowed"),
+        (
+            vec!["generate", "--set", &long, "--out", o_str],
+            "unknown variant",
+        ),
+        (
+            vec![
+                "generate",
+                "--config",
+                nul.to_str().unwrap(),
+                "--out",
+                o_str,
+            ],
+            "seed",
+        ),
+        (
+            vec!["generate", "--config", "synmtor", "--out", o_str],
+            "did you mean `synmotor`?",
+        ),
+        (
+            vec!["generate", "-n", "-1", "--out", o_str],
+            "must be a positive whole number",
+        ),
+        (
+            vec!["motors", "-n", "-5", "--out", o_str],
+            "must be a positive whole number",
+        ),
+        (
+            vec!["generate", "--seed", "-1", "--out", o_str],
+            "a whole number from 0",
+        ),
+        (
+            vec![
+                "scan",
+                "--sensor",
+                "zivid-2plus-m13",
+                "--mesh",
+                "x.obj",
+                "--look-at",
+                "0,0,1,0,0,0",
+                "--out",
+                o_str,
+            ],
+            "did you mean `zivid-2plus-m130`?",
+        ),
+    ];
+    for (args, says) in &cases {
+        let o = run(args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(err.len() < 700, "{args:?}: {} bytes of message", err.len());
+        assert!(!err.contains('\0'), "{args:?}: raw bytes");
+        for rust in [
+            "untagged", "u32", "u64", "f32", "struct ", "sequence", "enum ",
+        ] {
+            assert!(!err.contains(rust), "{args:?} names a Rust type: {err}");
+        }
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn a_full_or_closed_standard_output_ends_the_command_without_a_panic() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    for args in [
+        &["config", "--list"][..],
+        &["config", "--print", "zivid"],
+        &["params"],
+    ] {
+        let o = motorfactory()
+            .args(args)
+            .stdout(full.try_clone().unwrap())
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("cannot write to standard output"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // a reader that stops early (`| head -1`): quiet, success
+    let mut child = motorfactory()
+        .arg("params")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stderr(&o), "");
 }

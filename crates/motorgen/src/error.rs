@@ -14,7 +14,7 @@ pub enum Error {
         hint: String,
     },
     /// A value of the wrong type or out of range.
-    #[error("{key} = {value} is not allowed: expected {allowed}")]
+    #[error("{key} = {} is not allowed: expected {allowed}", shown(value))]
     Invalid {
         /// The parameter.
         key: String,
@@ -50,17 +50,9 @@ pub enum Error {
 impl Error {
     /// An unknown key, with the closest known key as a hint.
     pub fn unknown(key: &str) -> Error {
-        let best = crate::params::PARAMS
-            .iter()
-            .map(|p| (strsim::jaro_winkler(key, p.key), p.key))
-            .max_by(|a, b| a.0.total_cmp(&b.0));
-        let hint = match best {
-            Some((score, near)) if score > 0.8 => format!(", did you mean `{near}`?"),
-            _ => String::new(),
-        };
         Error::Unknown {
-            key: key.into(),
-            hint,
+            key: shown(key),
+            hint: did_you_mean(key, crate::params::PARAMS.iter().map(|p| p.key)),
         }
     }
 
@@ -73,3 +65,38 @@ impl Error {
 
 /// Result with [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// A value as a message shows it: at most 40 characters (the rest elided with `…`), control
+/// characters escaped, so that a huge or binary value cannot flood a terminal.
+pub fn shown(value: &str) -> String {
+    cut(value, 40)
+}
+
+/// `text` with control characters escaped and at most `most` characters, the rest elided
+/// with `…`.
+pub fn cut(text: &str, most: usize) -> String {
+    let mut out = String::new();
+    for c in text.chars().take(most) {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    if text.chars().nth(most).is_some() {
+        out.push('…');
+    }
+    out
+}
+
+/// `, did you mean `x`?` for the option closest to `given`, or nothing when none is close.
+pub fn did_you_mean<'a>(given: &str, options: impl IntoIterator<Item = &'a str>) -> String {
+    let best = options
+        .into_iter()
+        .map(|o| (strsim::jaro_winkler(given, o), o))
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    match best {
+        Some((score, near)) if score > 0.8 => format!(", did you mean `{near}`?"),
+        _ => String::new(),
+    }
+}

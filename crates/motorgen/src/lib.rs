@@ -41,7 +41,7 @@ pub mod params;
 mod parts;
 pub mod space;
 
-pub use error::{Error, Result};
+pub use error::{Error, Result, cut, did_you_mean, shown};
 pub use export::Format;
 pub use kernel::Detail;
 pub use labels::Scheme;

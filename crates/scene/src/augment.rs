@@ -1,5 +1,5 @@
 //! Augmentation levels and the validation split of the original datasets, assigned by sample
-//! index so that every prefix of a dataset holds the configured shares.
+//! index so that every prefix of each motor variant's samples holds the configured shares.
 
 use serde::{Deserialize, Serialize};
 
@@ -60,35 +60,93 @@ impl Split {
     }
 }
 
-/// Fractional part of `k·α`: a low-discrepancy sequence in [0, 1) (Weyl), so that the shares
-/// hold closely in every prefix of the samples.
-fn weyl(k: u64, alpha: f64) -> f64 {
-    (k as f64 * alpha + 0.5).fract()
+/// The (level, split) cells in a fixed order, each with its share of the samples.
+fn cells(a: &AugmentConfig) -> [((Level, Split), f64); 6] {
+    let v = f64::from(a.validation);
+    Level::ALL
+        .map(|l| {
+            let share = f64::from(l.config(a).share);
+            [
+                ((l, Split::Train), share * (1.0 - v)),
+                ((l, Split::Validation), share * v),
+            ]
+        })
+        .concat()
+        .try_into()
+        .expect("six cells")
 }
 
-/// The level and split of the `k`-th sample of its variant. Levels and splits use two
-/// independent irrational steps (golden ratio and √2), so each level has the validation share.
-pub fn assign(k: u64, a: &AugmentConfig) -> (Level, Split) {
-    let u = weyl(k, 0.618_033_988_749_894_9) as f32;
-    let mut acc = 0.0;
-    let level = Level::ALL
-        .into_iter()
-        .find(|l| {
-            acc += l.config(a).share;
-            u < acc
+/// Integer weights proportional to `shares`, summing to a period `d`: the smallest `d` up to
+/// 10,000 at which every share is a whole number, else 10,000 with the largest remainders
+/// rounded up.
+fn weights(shares: [f64; 6]) -> ([u64; 6], u64) {
+    const MOST: u64 = 10_000;
+    let total: f64 = shares.iter().sum();
+    let exact = (1..=MOST).find(|&d| {
+        shares.iter().all(|s| {
+            let x = s / total * d as f64;
+            (x - x.round()).abs() < 1e-6
         })
-        .or_else(|| {
-            // rounding left u past the last share: the last level that has samples
-            Level::ALL
-                .into_iter()
-                .rev()
-                .find(|l| l.config(a).share > 0.0)
-        })
-        .unwrap_or(Level::Noisy);
-    let split = if (weyl(k, std::f64::consts::SQRT_2 - 1.0) as f32) < a.validation {
-        Split::Validation
-    } else {
-        Split::Train
-    };
-    (level, split)
+    });
+    let d = exact.unwrap_or(MOST);
+    let scaled = shares.map(|s| s / total * d as f64);
+    let mut w = scaled.map(|x| x.floor() as u64);
+    let short = d - w.iter().sum::<u64>();
+    let mut order: Vec<usize> = (0..6).collect();
+    order.sort_by(|&i, &j| {
+        (scaled[j] - scaled[j].floor()).total_cmp(&(scaled[i] - scaled[i].floor()))
+    });
+    for &i in order.iter().take(short as usize) {
+        w[i] += 1;
+    }
+    (w, d)
+}
+
+/// The level and split of the `k`-th sample of its variant (`slot` numbers the variant, to vary
+/// the order among variants). The cells (level × split) follow Tijdeman's solution of the
+/// chairman assignment problem, so that in every prefix of a variant's samples each cell's count
+/// is within one sample of its share (at most 1 − 1/(2m − 2) away, m cells): for every n,
+/// each variant × level × split cell of the first n samples holds its target ±1.
+pub fn assign(k: u64, slot: u64, a: &AugmentConfig) -> (Level, Split) {
+    let cells = cells(a);
+    let (w, d) = weights(cells.map(|(_, s)| s));
+    let live: Vec<usize> = (0..6).filter(|&c| w[c] > 0).collect();
+    let m = live.len() as u64;
+    if m == 1 {
+        return cells[live[0]].0;
+    }
+    // in units of 1/(d·(2m − 2)): a cell may be chosen at step t when its deficit
+    // t·w/d − s reaches 1/(2m − 2), and the one whose deficit would reach 1 − 1/(2m − 2)
+    // first, (s + 1 − 1/(2m − 2))/w smallest, is
+    let q = 2 * m - 2;
+    let mut s = [0u64; 6];
+    let mut chosen = live[0];
+    for t in 1..=(k % d) + 1 {
+        let mut best: Option<(usize, u64)> = None;
+        for r in 0..live.len() {
+            let c = live[(r + slot as usize) % live.len()];
+            let deficit = (t * w[c]) as i128 - (d * s[c]) as i128;
+            if deficit * q as i128 >= d as i128 {
+                let key = (s[c] + 1) * q - 1;
+                let better = best.is_none_or(|(b, bk)| {
+                    u128::from(key) * u128::from(w[b]) < u128::from(bk) * u128::from(w[c])
+                });
+                if better {
+                    best = Some((c, key));
+                }
+            }
+        }
+        // (Tijdeman's theorem: some cell is always eligible; the largest deficit otherwise)
+        chosen = best.map_or_else(
+            || {
+                *live
+                    .iter()
+                    .max_by_key(|&&c| (t * w[c]) as i128 - (d * s[c]) as i128)
+                    .expect("a live cell")
+            },
+            |(c, _)| c,
+        );
+        s[chosen] += 1;
+    }
+    cells[chosen].0
 }

@@ -27,7 +27,8 @@ impl Error {
     /// `key = value is not allowed: expected allowed`.
     pub fn invalid(key: &str, value: impl Display, allowed: impl Display) -> Error {
         Error::Config(format!(
-            "{key} = {value} is not allowed: expected {allowed}"
+            "{key} = {} is not allowed: expected {allowed}",
+            motorgen::shown(&value.to_string())
         ))
     }
 

@@ -20,7 +20,8 @@
 //! let mut table = scene::config::builtin_table("synmotor").unwrap();
 //! scene::set_key(&mut table, "camera.views", 2.into())?;
 //! let dataset = Dataset::new(table, None, None, Shard::ALL, "out/never-written".as_ref())?;
-//! let sample = make(&dataset.recipe(3)?, 3)?;
+//! let recipe = dataset.recipe(3)?;
+//! let sample = make(&recipe, 3)?;
 //! assert_eq!(sample.views.len(), 2);
 //! let cloud = &sample.views[0].cloud;
 //! assert!(cloud.len() > 1000);

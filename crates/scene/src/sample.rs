@@ -92,6 +92,19 @@ impl Recipe {
         })
     }
 
+    /// Sample `index`'s motor variant (`motor.variants` in turn), augmentation level and split.
+    pub fn placement(&self, index: u64) -> (Option<Variant>, Level, Split) {
+        let variants = &self.config.motor.variants;
+        let (variant, slot, k) = if variants.is_empty() {
+            (None, 0, index)
+        } else {
+            let n = variants.len() as u64;
+            (Some(variants[(index % n) as usize]), index % n, index / n)
+        };
+        let (level, split) = assign(k, slot, &self.config.augment);
+        (variant, level, split)
+    }
+
     /// The sensor, binning applied.
     pub fn sensor(&self) -> &SensorSpec {
         &self.sensor
@@ -184,14 +197,7 @@ fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
 pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let config = &recipe.config;
     let seed = derive_seed(config.seed, index);
-    let variants = &config.motor.variants;
-    let (variant, k) = if variants.is_empty() {
-        (None, index)
-    } else {
-        let n = variants.len() as u64;
-        (Some(variants[(index % n) as usize]), index / n)
-    };
-    let (level, split) = assign(k, &config.augment);
+    let (variant, level, split) = recipe.placement(index);
     let space = &recipe.spaces[(index % recipe.spaces.len() as u64) as usize];
     let motor = build(&space.sample(Seed::Motor.of(seed))?, config.motor.detail);
     let cover_removed = Seed::Cover.rng(seed).random::<f32>() < config.motor.cover_removed;

@@ -5,10 +5,12 @@ use motorgen::kernel::inspect;
 use motorgen::{Detail, ParamSpace, PartKind, Scheme, build, derive_seed};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use scene::augment::{Level, Split, assign};
-use scene::config::{BUILTIN, CameraConfig, Config, Rig, default_table};
+use std::collections::HashMap;
+
+use scene::augment::{Level, Split};
+use scene::config::{BUILTIN, CameraConfig, Config, Rig, Variant, default_table};
 use scene::rig::camera_poses;
-use scene::{Variation, compose};
+use scene::{Recipe, Variation, compose};
 
 #[test]
 fn every_builtin_config_is_valid_over_the_default_and_shipped_in_configs() {
@@ -161,45 +163,79 @@ fn cap_cameras_look_at_the_motor_from_the_configured_cap() {
     assert!(pose.transform_vector3(Vec3::Y).dot(Vec3::Y) < -0.999);
 }
 
-#[test]
-fn levels_and_splits_hold_their_shares_in_every_prefix() {
-    let a = Config::default().augment;
-    let levels = [
-        (Level::Clean, 0.2),
-        (Level::Occluded, 0.2),
-        (Level::Noisy, 0.6),
-    ];
-    let mut counts = std::collections::HashMap::new();
-    let (mut worst_level, mut worst_split, mut worst_level_split) = (0f64, 0f64, 0f64);
-    let mut validation = 0f64;
-    for k in 0..10_000u64 {
-        let (level, split) = assign(k, &a);
-        *counts.entry((level, split)).or_insert(0u32) += 1;
-        validation += f64::from(u8::from(split == Split::Validation));
-        let n = (k + 1) as f64;
-        worst_split = worst_split.max((validation - 0.2 * n).abs());
-        for (l, share) in levels {
-            let count = |s: Split| f64::from(counts.get(&(l, s)).copied().unwrap_or(0));
-            let c = count(Split::Train) + count(Split::Validation);
-            // low-discrepancy sequences: every prefix within three samples of its shares
-            worst_level = worst_level.max((c - share * n).abs());
-            // the split follows its own sequence: within a level, its share holds more loosely
-            let v = count(Split::Validation);
-            worst_level_split = worst_level_split.max((v - 0.2 * c).abs());
+/// The largest distance, over every prefix of the first `n` samples of `recipe` and every
+/// variant × level × split cell, between the cell's count and its share of the variant's
+/// samples in that prefix.
+fn worst_cell(recipe: &Recipe, n: u64) -> f64 {
+    let a = &recipe.config.augment;
+    let share = |l: Level, s: Split| {
+        f64::from(l.config(a).share)
+            * f64::from(if s == Split::Validation {
+                a.validation
+            } else {
+                1.0 - a.validation
+            })
+    };
+    // per variant: its samples so far, and their count per cell
+    type Counts = (f64, HashMap<(Level, Split), f64>);
+    let mut per_variant: HashMap<Option<Variant>, Counts> = HashMap::new();
+    let mut worst = 0f64;
+    for i in 0..n {
+        let (variant, level, split) = recipe.placement(i);
+        let (seen, counts) = per_variant.entry(variant).or_default();
+        *seen += 1.0;
+        *counts.entry((level, split)).or_default() += 1.0;
+        for l in Level::ALL {
+            for s in [Split::Train, Split::Validation] {
+                let c = counts.get(&(l, s)).copied().unwrap_or(0.0);
+                worst = worst.max((c - share(l, s) * *seen).abs());
+            }
         }
     }
-    assert!(
-        worst_level <= 3.0,
-        "a level's count is {worst_level} off its share"
-    );
-    assert!(
-        worst_split <= 3.0,
-        "the validation count is {worst_split} off its share"
-    );
-    assert!(
-        worst_level_split <= 12.0,
-        "a level's validation count is {worst_level_split} off its share"
-    );
+    worst
+}
+
+#[test]
+fn every_variant_level_and_split_cell_holds_its_share_in_every_prefix() {
+    let recipe = |sets: &[(&str, toml::Value)]| {
+        let mut t = default_table();
+        for (k, v) in sets {
+            scene::set_key(&mut t, k, v.clone()).unwrap();
+        }
+        Recipe::new(Config::from_table(&t).unwrap(), Vec::new()).unwrap()
+    };
+    let default = recipe(&[]);
+    // SynMotor's composition per motor type: 20 / 20 / 60, validation 4 / 4 / 12 of every 100
+    for n in [20, 100, 200, 1000, 20_000] {
+        let worst = worst_cell(&default, n);
+        assert!(
+            worst < 1.0,
+            "n = {n}: a cell is {worst} samples off its share"
+        );
+    }
+    let shares = |c: f64, o: f64, z: f64, v: f64| {
+        recipe(&[
+            ("augment.clean.share", c.into()),
+            ("augment.occluded.share", o.into()),
+            ("augment.noisy.share", z.into()),
+            ("augment.validation", v.into()),
+        ])
+    };
+    for r in [
+        shares(0.3, 0.3, 0.4, 0.15),
+        shares(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.1),
+        shares(0.123, 0.456, 0.421, 0.333),
+        shares(1.0, 0.0, 0.0, 0.2),
+        shares(0.2, 0.2, 0.6, 0.0),
+        recipe(&[("motor.variants", toml::Value::Array(Vec::new()))]),
+    ] {
+        let worst = worst_cell(&r, 3000);
+        assert!(
+            worst < 1.0,
+            "{:?}: a cell is {worst} samples off",
+            r.config.augment
+        );
+    }
 }
 
 #[test]

@@ -55,6 +55,6 @@ pub use camera::{Distortion, Intrinsics, look_at};
 pub use cloud::{Frame, PointCloud, Units};
 pub use error::Error;
 pub use noise::Noise;
-pub use scan::{Pixel, Region, Scan, scan, scan_reusing, scan_within};
+pub use scan::{Pixel, Region, Scan, nearest_surface, scan, scan_reusing, scan_within};
 pub use spec::{Model, PRESETS, Projector, SensorSpec};
 pub use world::{Classes, Material, Target, World};

@@ -14,6 +14,9 @@ impl Config {
     /// what is.
     pub fn check(&self) -> Result<()> {
         let m = &self.motor;
+        if self.samples == 0 {
+            return Err(Error::invalid("samples", 0, "a positive whole number"));
+        }
         self.param_spaces()?;
         share("motor.cover_removed", m.cover_removed)?;
         if m.cover_removed > 0.0 && self.output.scheme != Scheme::InnerParts {

@@ -5,6 +5,7 @@
 mod check;
 mod sweep;
 mod table;
+mod words;
 
 use motorgen::{Detail, ParamSpace, Scheme};
 use rand::{Rng, RngExt};
@@ -14,12 +15,13 @@ use serde::{Deserialize, Serialize};
 
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
 pub use table::{BUILTIN, builtin_table, default_table, overlay, parse_value, set_key};
+pub use words::in_words;
 
 use crate::error::{Error, Result};
 
 /// A number drawn uniformly from `[min, max]`; written `x` (fixed) or `[min, max]`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(from = "SpanForm", into = "[f32; 2]")]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(into = "[f32; 2]")]
 pub struct Span {
     /// Lower bound.
     pub min: f32,
@@ -27,19 +29,37 @@ pub struct Span {
     pub max: f32,
 }
 
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum SpanForm {
-    Fixed(f32),
-    Range([f32; 2]),
-}
-
-impl From<SpanForm> for Span {
-    fn from(f: SpanForm) -> Span {
-        match f {
-            SpanForm::Fixed(x) => Span::new(x, x),
-            SpanForm::Range([a, b]) => Span::new(a, b),
+impl<'de> Deserialize<'de> for Span {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Span, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = Span;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or [min, max]")
+            }
+            fn visit_f64<E: serde::de::Error>(self, x: f64) -> std::result::Result<Span, E> {
+                Ok(Span::new(x as f32, x as f32))
+            }
+            fn visit_i64<E: serde::de::Error>(self, x: i64) -> std::result::Result<Span, E> {
+                self.visit_f64(x as f64)
+            }
+            fn visit_u64<E: serde::de::Error>(self, x: u64) -> std::result::Result<Span, E> {
+                self.visit_f64(x as f64)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<Span, A::Error> {
+                let two = || serde::de::Error::custom("expected a number or [min, max]");
+                let a: f32 = seq.next_element()?.ok_or_else(two)?;
+                let b: f32 = seq.next_element()?.ok_or_else(two)?;
+                if seq.next_element::<f32>()?.is_some() {
+                    return Err(two());
+                }
+                Ok(Span::new(a, b))
+            }
         }
+        d.deserialize_any(Visitor)
     }
 }
 
@@ -235,8 +255,17 @@ impl SensorConfig {
     pub fn resolve(&self) -> Result<SensorSpec> {
         let mut spec = match &self.spec {
             Some(spec) => spec.clone(),
-            None => SensorSpec::preset(&self.preset)
-                .map_err(|e| Error::invalid("sensor.preset", &self.preset, e.to_string()))?,
+            None => SensorSpec::preset(&self.preset).map_err(|_| {
+                Error::invalid(
+                    "sensor.preset",
+                    format!("\"{}\"", self.preset),
+                    format!(
+                        "one of {}{}",
+                        sensor::PRESETS.join(", "),
+                        motorgen::did_you_mean(&self.preset, sensor::PRESETS.iter().copied())
+                    ),
+                )
+            })?,
         };
         if ![1, 2, 4].contains(&self.binning) {
             return Err(Error::invalid("sensor.binning", self.binning, "1, 2 or 4"));
@@ -368,7 +397,7 @@ impl Config {
                 let path = e.path().to_string();
                 let inner = e.into_inner().to_string();
                 // toml appends "in `path`", which the prefix already says
-                let inner = inner.split("\nin `").next().unwrap_or_default().trim();
+                let inner = in_words(inner.split("\nin `").next().unwrap_or_default().trim());
                 Error::Config(if path == "." || path.is_empty() {
                     inner.to_string()
                 } else {

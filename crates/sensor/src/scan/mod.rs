@@ -106,6 +106,38 @@ pub fn scan(world: &World, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
     scan_pixels(world, sensor, pose, seed, None, Vec::new())
 }
 
+/// The distance to the nearest surface that a sparse grid of the camera's rays (every 8th pixel
+/// of every 8th row, and the last) meets at any range; None when they meet nothing. It tells a
+/// user whose scan came out empty how far the scene really is.
+///
+/// # Example
+///
+/// ```
+/// use glam::Vec3;
+/// use sensor::{Material, SensorSpec, Target, World, look_at, nearest_surface, scan, shapes};
+///
+/// let plate = shapes::rectangle(Vec3::ZERO, Vec3::X, Vec3::Y);
+/// let world = World::new(&[Target::from_triangles(&plate, 1, 1, Material::default())]);
+/// let kinect = SensorSpec::preset("kinect-v1")?; // 0.7 to 6 m
+/// let pose = look_at(Vec3::new(0.0, 0.0, 0.4), Vec3::ZERO, Vec3::Y).unwrap();
+/// assert_eq!(scan(&world, &kinect, &pose, 0).valid_count(), 0);
+/// let d = nearest_surface(&world, &kinect, &pose).unwrap();
+/// assert!((d - 0.4).abs() < 1e-3);
+/// # Ok::<(), sensor::Error>(())
+/// ```
+pub fn nearest_surface(world: &World, sensor: &SensorSpec, pose: &Affine3A) -> Option<f32> {
+    let k = &sensor.intrinsics;
+    let along = |n: u32| (0..n).step_by(8).chain([n - 1]);
+    let origin = Vec3::from(pose.translation);
+    along(k.height)
+        .flat_map(|v| along(k.width).map(move |u| (u, v)))
+        .filter_map(|(u, v)| {
+            let dir = pose.transform_vector3(k.ray(f64::from(u), f64::from(v)));
+            world.cast(origin, dir, f32::INFINITY).map(|h| h.t)
+        })
+        .min_by(f32::total_cmp)
+}
+
 /// As [`scan`], but pixels whose centre ray misses `region` stay empty without being cast
 /// (with a pinhole camera, each row casts the columns towards the region's cut by the row's
 /// plane, and a column either side, whose rays may miss it). A point can only lie in a box its
