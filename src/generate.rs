@@ -163,6 +163,13 @@ impl GenerateCmd {
             ));
         }
         let (_, seconds) = progress.finish();
+        if let Some(first) = summary.empty.first() {
+            note!(
+                "warning: {} samples hold no point (the first: sample {first}); their camera \
+                 poses put the motor out of the sensor's range or the crop box",
+                summary.empty.len()
+            );
+        }
         if !self.quiet {
             let scheme = dataset.scheme();
             let seen: Vec<String> = scheme

@@ -64,7 +64,7 @@ pub struct MeshArgs {
     /// Tessellation: coarse, normal or fine.
     #[arg(long)]
     detail: Option<String>,
-    /// Exploded view: 0 assembled, 1 fully exploded.
+    /// Exploded view: 0 assembled, 1 the add-on's exploded spacing, up to 10 for wider.
     #[arg(long)]
     exploded: Option<f32>,
     /// Write only the whole motor, not one file per part.

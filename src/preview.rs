@@ -20,15 +20,15 @@ use crate::meshio::number;
 pub struct PreviewCmd {
     /// A sample's `.json`, or a dataset folder.
     sample: PathBuf,
-    /// Output PNG.
+    /// Output PNG (a `.png` file in an existing folder).
     #[arg(long)]
     out: PathBuf,
     /// Width of each preview, pixels.
     #[arg(long, default_value_t = 640)]
     width: u32,
-    /// Samples on a contact sheet.
-    #[arg(long, default_value_t = 16)]
-    count: usize,
+    /// Samples on a contact sheet, from 1.
+    #[arg(long, default_value_t = 16, value_parser = crate::error::count)]
+    count: u64,
 }
 
 impl PreviewCmd {
@@ -40,8 +40,27 @@ impl PreviewCmd {
                 self.width
             )));
         }
+        if !self
+            .out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        {
+            return Err(CliError::Usage(format!(
+                "--out {}: a preview is a PNG image; name it NAME.png",
+                self.out.display()
+            )));
+        }
+        let folder = self.out.parent().filter(|p| !p.as_os_str().is_empty());
+        if folder.is_some_and(|p| !p.is_dir()) {
+            return Err(CliError::Usage(format!(
+                "--out {}: the folder {} does not exist",
+                self.out.display(),
+                folder.unwrap_or(Path::new(".")).display()
+            )));
+        }
         let image = if self.sample.is_dir() {
-            let jsons = first_samples(&self.sample, self.count.max(1))?;
+            let count = usize::try_from(self.count).unwrap_or(usize::MAX);
+            let jsons = first_samples(&self.sample, count)?;
             let images = jsons
                 .iter()
                 .map(|j| preview(j, self.width))
@@ -81,7 +100,9 @@ fn first_samples(dir: &Path, count: usize) -> CliResult<Vec<PathBuf>> {
     if rows.is_empty() {
         return Err(bad("no manifest rows: is it a motorfactory dataset?".into()));
     }
+    // a sharded dataset lists its samples in the shards' manifests and in the merged one
     rows.sort_by_key(|r| r.index);
+    rows.dedup_by_key(|r| r.index);
     Ok(rows
         .into_iter()
         .take(count)

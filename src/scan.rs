@@ -8,7 +8,7 @@ use glam::Vec3;
 use motorgen::Scheme;
 use motorgen::export::write_atomic;
 use sensor::formats::*;
-use sensor::{Frame, SensorSpec, Units, World, look_at, scan};
+use sensor::{Frame, SensorSpec, Units, World, look_at, nearest_surface, scan};
 
 use crate::error::{CliError, CliResult, choice};
 use crate::meshio::read_targets;
@@ -41,11 +41,11 @@ pub struct ScanCmd {
     /// Frame of the written points: camera (OpenCV), world or blensor.
     #[arg(long, default_value = "camera")]
     frame: String,
-    /// Units of the written points: m or mm.
-    #[arg(long, default_value = "m")]
+    /// Units of the written points: metres or millimetres (m and mm also work).
+    #[arg(long, default_value = "metres")]
     units: String,
     /// Noise seed.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::error::seed)]
     seed: u64,
     /// Output folder.
     #[arg(long)]
@@ -136,7 +136,12 @@ impl ScanCmd {
         let units = choice(
             "units",
             &self.units,
-            &[("m", Units::Metres), ("mm", Units::Millimetres)],
+            &[
+                ("metres", Units::Metres),
+                ("millimetres", Units::Millimetres),
+                ("m", Units::Metres),
+                ("mm", Units::Millimetres),
+            ],
         )?;
         let formats = self
             .format
@@ -155,16 +160,33 @@ impl ScanCmd {
                 t
             }));
         }
+        let start = std::time::Instant::now();
+        let world = World::new(&targets);
+        let result = scan(&world, &spec, &pose, self.seed);
+        if result.valid_count() == 0 {
+            let range = format!(
+                "the sensor {} measures from {} to {} m",
+                spec.name, spec.min_range, spec.max_range
+            );
+            return Err(CliError::Usage(
+                match nearest_surface(&world, &spec, &pose) {
+                    Some(d) => format!(
+                        "the scan holds no point: {range}, and the nearest surface in view is \
+                     {d:.3} m from the camera; move --look-at's eye"
+                    ),
+                    None => format!(
+                        "the scan holds no point: {range}, and no surface is in view; point \
+                     --look-at at the mesh"
+                    ),
+                },
+            ));
+        }
         std::fs::create_dir_all(&self.out).map_err(|e| {
             CliError::Usage(format!(
                 "cannot create output folder {}: {e}",
                 self.out.display()
             ))
         })?;
-
-        let start = std::time::Instant::now();
-        let world = World::new(&targets);
-        let result = scan(&world, &spec, &pose, self.seed);
         let cloud = result.cloud(false, frame, units);
         let palette: Vec<[u8; 3]> = Scheme::SynMotor.classes().iter().map(|c| c.color).collect();
         let save = |name: &str, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| {

@@ -549,7 +549,7 @@ fn scan_files_are_identical_for_one_and_two_threads() {
     assert!(one == two, "scan files differ between 1 and 2 threads");
 }
 
-/// A `scan` of `mesh` from 2 m into `out`.
+/// A `scan` of `mesh` from 1 m into `out`.
 fn scan_mesh(mesh: &Path, out: &Path) -> Output {
     motorfactory()
         .args([
@@ -557,7 +557,7 @@ fn scan_mesh(mesh: &Path, out: &Path) -> Output {
             "--binning",
             "4",
             "--look-at",
-            "0,0,-2,0,0,0",
+            "0,0,-1,0,0,0",
             "--mesh",
         ])
         .arg(mesh)
@@ -854,4 +854,138 @@ fn a_full_or_closed_standard_output_ends_the_command_without_a_panic() {
     let o = child.wait_with_output().unwrap();
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert_eq!(stderr(&o), "");
+}
+
+#[test]
+fn empty_scans_and_samples_are_never_silent() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("never");
+    let o_str = out.to_str().unwrap();
+    let m = coarse_motor(dir.path(), &["--format", "ply", "--whole-only"]);
+    let mesh = m.join("motor.ply");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        // the Kinect starts at 0.7 m; the default camera is 0.56-0.64 m away
+        (
+            vec![
+                "generate",
+                "--set",
+                "sensor.preset=kinect-v1",
+                "--out",
+                o_str,
+            ],
+            "the sensor (kinect-v1) measures from 0.7 to 6 m, and the nearest surface in view is 0.5",
+        ),
+        (
+            vec![
+                "generate",
+                "--set",
+                "camera.distance=[1.2, 1.3]",
+                "--out",
+                o_str,
+            ],
+            "measures from 0.35 to 1.1 m, and the nearest surface in view is 1.",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                mesh.to_str().unwrap(),
+                "--sensor",
+                "zivid-2plus-m130",
+                "--look-at",
+                "0,0,0.7,0,0,0",
+                "--out",
+                o_str,
+            ],
+            "the scan holds no point: the sensor zivid-2plus-m130 measures from 0.8 to 2 m, and \
+             the nearest surface in view is 0.5",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                mesh.to_str().unwrap(),
+                "--look-at",
+                "0,0,-2,0,0,-3",
+                "--out",
+                o_str,
+            ],
+            "no surface is in view",
+        ),
+    ];
+    assert_refused(&cases, &out);
+    // later samples that come out empty are written, and said
+    let o = run(&[
+        "generate",
+        "-n",
+        "10",
+        "--quiet",
+        "--set",
+        "camera.distance=[1.0, 1.25]",
+        "--out",
+        o_str,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: 4 samples hold no point (the first: sample 2)"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn preview_and_scan_options_follow_the_common_rules() {
+    let dir = tempfile::tempdir().unwrap();
+    let ds = dir.path().join("ds");
+    let o = run(&[
+        "generate",
+        "-n",
+        "2",
+        "--quiet",
+        "--out",
+        ds.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let d = ds.to_str().unwrap();
+    let missing = dir.path().join("missing/sheet.png");
+    let jpg = dir.path().join("sheet.jpg");
+    for (args, says) in [
+        (
+            vec!["preview", d, "--out", missing.to_str().unwrap()],
+            "does not exist",
+        ),
+        (
+            vec!["preview", d, "--out", jpg.to_str().unwrap()],
+            "a PNG image",
+        ),
+        (
+            vec!["preview", d, "--count", "0", "--out", "x.png"],
+            "positive whole number",
+        ),
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(says), "{args:?}: {}", stderr(&o));
+    }
+    assert!(!missing.exists() && !jpg.exists());
+    // the configuration's unit names work for scan too
+    let m = coarse_motor(dir.path(), &["--format", "ply", "--whole-only"]);
+    let scan = dir.path().join("scan");
+    let o = run(&[
+        "scan",
+        "--mesh",
+        m.join("motor.ply").to_str().unwrap(),
+        "--binning",
+        "4",
+        "--look-at",
+        "0.05,-1.2,0.6,0,0,0.09",
+        "--units",
+        "millimetres",
+        "--out",
+        scan.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(scan.join("scan.json")).unwrap()).unwrap();
+    assert_eq!(summary["units"], "millimetres");
 }

@@ -132,13 +132,16 @@ pub struct Summary {
     pub class_counts: Vec<u64>,
     /// Whether the run was stopped before its shard was done.
     pub stopped: bool,
+    /// Samples of the shard, with their indices, whose crops hold no point (every view).
+    pub empty: Vec<u64>,
 }
 
-/// A prepared output folder: the run's claim on it and the samples of its shard already done.
-#[derive(Debug)]
+/// A prepared output folder: the run's claim on it, the samples of its shard already done, and
+/// the first one to make, already made.
 pub struct Prepared {
     claim: Claim,
     done: Vec<Row>,
+    first: Mutex<Option<(Arc<Recipe>, Sample)>>,
 }
 
 impl Prepared {
@@ -262,6 +265,16 @@ impl Dataset {
     /// and `resume` is false, or another run holds it; [`Error::Io`] when the folder or its
     /// first files cannot be written.
     pub fn prepare(&self, resume: bool) -> Result<Prepared> {
+        let existed = self.out.exists();
+        let prepared = self.prepare_existing(resume);
+        if prepared.is_err() && !existed {
+            // refused: a folder this call made goes again
+            let _ = std::fs::remove_dir_all(&self.out);
+        }
+        prepared
+    }
+
+    fn prepare_existing(&self, resume: bool) -> Result<Prepared> {
         let out = &self.out;
         let unusable =
             |what: String| Error::Output(format!("output folder {}: {what}", out.display()));
@@ -295,8 +308,8 @@ impl Dataset {
                 last.index, self.samples
             )));
         }
-        save(&config, &|w| w.write_all(self.resolved.as_bytes()))
-            .map_err(|e| unusable(e.to_string()))?;
+        let first = self.first_sample(&rows)?;
+        save(&config, &|w| w.write_all(self.resolved.as_bytes()))?;
         let scheme = self.scheme();
         let labels = serde_json::json!({
             "scheme": scheme,
@@ -313,7 +326,31 @@ impl Dataset {
         }
         claim.remove_stale_temporaries(&dirs)?;
         drop(_setup);
-        Ok(Prepared { claim, done: rows })
+        Ok(Prepared {
+            claim,
+            done: rows,
+            first: Mutex::new(first),
+        })
+    }
+
+    /// The first sample of this shard not in `done`, made to see that the configuration
+    /// yields points at all.
+    fn first_sample(&self, done: &[Row]) -> Result<Option<(Arc<Recipe>, Sample)>> {
+        let Shard { part, count } = self.shard;
+        let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.index).collect();
+        let Some(index) = (0..)
+            .map(|k: u64| part + k * count)
+            .take_while(|&i| i < self.samples)
+            .find(|i| !have.contains(i))
+        else {
+            return Ok(None);
+        };
+        let recipe = self.recipe(index)?;
+        let sample = make(&recipe, index)?;
+        if sample.views.iter().all(|v| v.cloud.is_empty()) {
+            return Err(Error::Config(why_empty(&recipe, &sample)));
+        }
+        Ok(Some((recipe, sample)))
     }
 
     /// The number of samples in this run's shard.
@@ -338,7 +375,7 @@ impl Dataset {
         finished: &(dyn Fn(&Row) + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Summary> {
-        let Prepared { claim, done } = prepared;
+        let Prepared { claim, done, first } = prepared;
         let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.index).collect();
         let Shard { part, count } = self.shard;
         let manifest_path = self.manifest();
@@ -370,8 +407,18 @@ impl Dataset {
                     stopped.store(true, std::sync::atomic::Ordering::Relaxed);
                     return Err(None);
                 }
-                let recipe = self.recipe(index).map_err(Some)?;
-                let sample = make(&recipe, index).map_err(Some)?;
+                let made = first
+                    .lock()
+                    .expect("first sample lock")
+                    .take_if(|(_, s)| s.index == index);
+                let (recipe, sample) = match made {
+                    Some(made) => made,
+                    None => {
+                        let recipe = self.recipe(index).map_err(Some)?;
+                        let sample = make(&recipe, index).map_err(Some)?;
+                        (recipe, sample)
+                    }
+                };
                 let row = self.write(&recipe, &sample).map_err(Some)?;
                 let line = serde_json::to_string(&row).expect("rows serialise") + "\n";
                 manifest
@@ -406,6 +453,9 @@ impl Dataset {
             ..Summary::default()
         };
         for r in &rows {
+            if r.points.iter().all(|&n| n == 0) {
+                summary.empty.push(r.index);
+            }
             summary.points += r.points.iter().sum::<usize>() as u64;
             if summary.class_counts.len() < r.class_counts.len() {
                 summary.class_counts.resize(r.class_counts.len(), 0);
@@ -553,4 +603,31 @@ fn read_all_rows(out: &Path) -> Result<BTreeMap<u64, Row>> {
         }
     }
     Ok(rows)
+}
+
+/// Why `sample` holds no point: the sensor's range against the nearest surface in view.
+fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
+    let sensor = &sample.sensor;
+    let world = sensor::World::new(&sample.cell.targets(recipe.config.output.scheme));
+    let range = format!(
+        "the sensor ({}) measures from {} to {} m",
+        sensor.name, sensor.min_range, sensor.max_range
+    );
+    let nearest = sample
+        .views
+        .iter()
+        .filter_map(|v| sensor::nearest_surface(&world, sensor, &v.pose))
+        .min_by(f32::total_cmp);
+    let what = match nearest {
+        None => format!("{range}, and no surface is in view; check camera"),
+        Some(d) if d < sensor.min_range || d > sensor.max_range => format!(
+            "{range}, and the nearest surface in view is {d:.3} m from the camera; set \
+             camera.distance (or sensor.preset) so that the motor lies in range"
+        ),
+        Some(d) => format!(
+            "{range}, and surfaces lie in range ({d:.3} m), but none in the crop box; check \
+             [crop]"
+        ),
+    };
+    format!("sample {} holds no point: {what}", sample.index)
 }
