@@ -12,7 +12,6 @@ macro_rules! note {
 mod error;
 mod generate;
 mod memory;
-mod meshio;
 mod motors;
 mod preview;
 mod progress;

@@ -12,7 +12,7 @@ use scene::preview::{Image, contact_sheet, render};
 use scene::{Row, SampleJson};
 
 use crate::error::{CliError, CliResult};
-use crate::meshio::number;
+use sensor::mesh::number;
 
 /// Draw a sample's cloud from its camera, coloured by class; or, for a dataset folder, a contact
 /// sheet of its first samples.

@@ -11,7 +11,6 @@ use sensor::formats::*;
 use sensor::{Frame, SensorSpec, Units, World, look_at, nearest_surface, scan};
 
 use crate::error::{CliError, CliResult, choice};
-use crate::meshio::read_targets;
 
 /// Scan meshes with a simulated depth sensor and write the cloud and images.
 #[derive(Debug, Args)]
@@ -155,10 +154,15 @@ impl ScanCmd {
                 .map(|t: &sensor::Target| t.instance)
                 .max()
                 .unwrap_or(0);
-            targets.extend(read_targets(path)?.into_iter().map(|mut t| {
-                t.instance += offset;
-                t
-            }));
+            targets.extend(
+                sensor::mesh::read(path)
+                    .map_err(|e| CliError::Usage(e.to_string()))?
+                    .into_iter()
+                    .map(|mut t| {
+                        t.instance += offset;
+                        t
+                    }),
+            );
         }
         let start = std::time::Instant::now();
         let world = World::new(&targets);

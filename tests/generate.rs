@@ -8,7 +8,7 @@ use glam::{Affine3A, Mat4, Vec3};
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
 
-use kit::{dataset_files, motorfactory};
+use kit::{assert_same_dataset, dataset_files, motorfactory};
 
 mod kit;
 
@@ -176,11 +176,7 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
     ok(&generate(&one, &[&args(&a)[..], &["--jobs", "1"]].concat()));
     let two = dir.path().join("two");
     ok(&generate(&two, &[&args(&a)[..], &["--jobs", "2"]].concat()));
-    assert_eq!(dataset_files(&one), dataset_files(&two));
-    assert_eq!(
-        std::fs::read(one.join("manifest.jsonl")).unwrap(),
-        std::fs::read(two.join("manifest.jsonl")).unwrap()
-    );
+    assert_same_dataset(&one, &two);
     let shards = dir.path().join("shards");
     for s in ["0/3", "1/3", "2/3"] {
         ok(&generate(
@@ -188,12 +184,8 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
             &[&args(&a)[..], &["--shard", s]].concat(),
         ));
     }
-    assert_eq!(dataset_files(&one), dataset_files(&shards));
+    assert_same_dataset(&one, &shards);
     assert!(shards.join("manifest-2-of-3.jsonl").is_file());
-    assert_eq!(
-        std::fs::read(one.join("manifest.jsonl")).unwrap(),
-        std::fs::read(shards.join("manifest.jsonl")).unwrap()
-    );
 }
 
 #[test]
@@ -244,11 +236,7 @@ fn killed_run_resumes_to_the_same_bytes() {
         "a second run needs --resume"
     );
     ok(&generate(&part, &[&args(&a)[..], &["--resume"]].concat()));
-    assert_eq!(dataset_files(&whole), dataset_files(&part));
-    assert_eq!(
-        std::fs::read(whole.join("manifest.jsonl")).unwrap(),
-        std::fs::read(&manifest).unwrap()
-    );
+    assert_same_dataset(&whole, &part);
 }
 
 #[test]

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use kit::{dataset_files, files_below, motorfactory};
+use kit::{assert_same_dataset, dataset_files, files_below, motorfactory};
 
 mod kit;
 
@@ -80,11 +80,7 @@ fn a_second_run_into_a_busy_folder_is_refused_and_the_first_finishes_alone() {
     ok(&generate(&alone, &["-n", "12", "--seed", "7"])
         .output()
         .unwrap());
-    assert_eq!(dataset_files(&out), dataset_files(&alone));
-    assert_eq!(
-        std::fs::read(out.join("manifest.jsonl")).unwrap(),
-        std::fs::read(alone.join("manifest.jsonl")).unwrap()
-    );
+    assert_same_dataset(&out, &alone);
 }
 
 #[test]
@@ -100,11 +96,7 @@ fn shards_merge_their_manifests_and_a_resume_reads_them() {
         // the merged manifest comes with the last shard
         assert_eq!(shards.join("manifest.jsonl").exists(), s == "1/3");
     }
-    assert_eq!(dataset_files(&one), dataset_files(&shards));
-    assert_eq!(
-        std::fs::read(one.join("manifest.jsonl")).unwrap(),
-        std::fs::read(shards.join("manifest.jsonl")).unwrap()
-    );
+    assert_same_dataset(&one, &shards);
     // a shard run again, as a requeued task is, finds its work done
     let o = generate(&shards, &["-n", "6", "--shard", "1/3", "--resume"])
         .output()
@@ -197,11 +189,7 @@ fn runs_killed_at_any_moment_resume_to_the_same_bytes_and_leave_no_temporary_fil
         .output()
         .unwrap());
     assert_eq!(temporaries(&part), Vec::<String>::new());
-    assert_eq!(dataset_files(&whole), dataset_files(&part));
-    assert_eq!(
-        std::fs::read(whole.join("manifest.jsonl")).unwrap(),
-        std::fs::read(part.join("manifest.jsonl")).unwrap()
-    );
+    assert_same_dataset(&whole, &part);
 }
 
 #[test]
@@ -285,12 +273,7 @@ fn four_shards_in_their_own_pid_namespaces_equal_a_single_run() {
         for c in children {
             ok(&c.wait_with_output().unwrap());
         }
-        assert_eq!(dataset_files(&one), dataset_files(&shared), "round {round}");
-        assert_eq!(
-            std::fs::read(one.join("manifest.jsonl")).unwrap(),
-            std::fs::read(shared.join("manifest.jsonl")).unwrap(),
-            "round {round}"
-        );
+        assert_same_dataset(&one, &shared);
     }
 }
 
@@ -380,11 +363,7 @@ fn the_slurm_and_kubernetes_recipes_finish_their_shards_when_requeued_or_restart
         .output()
         .unwrap());
     }
-    assert_eq!(dataset_files(&single), dataset_files(&out));
-    assert_eq!(
-        std::fs::read(single.join("manifest.jsonl")).unwrap(),
-        std::fs::read(out.join("manifest.jsonl")).unwrap()
-    );
+    assert_same_dataset(&single, &out);
 
     // Kubernetes: the container's command; pod 5 killed at once and restarted
     let job = recipe("Kubernetes, an indexed Job");
@@ -407,9 +386,5 @@ fn the_slurm_and_kubernetes_recipes_finish_their_shards_when_requeued_or_restart
     for i in 0..16 {
         ok(&pod(i).output().unwrap());
     }
-    assert_eq!(dataset_files(&single), dataset_files(&out));
-    assert_eq!(
-        std::fs::read(single.join("manifest.jsonl")).unwrap(),
-        std::fs::read(out.join("manifest.jsonl")).unwrap()
-    );
+    assert_same_dataset(&single, &out);
 }

@@ -35,3 +35,22 @@ pub fn dataset_files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     files.retain(|name, _| !name.starts_with("manifest") && !name.starts_with(".motorfactory"));
     files
 }
+
+/// Asserts that two dataset folders hold the same files, byte for byte, and the same
+/// `manifest.jsonl`.
+#[allow(dead_code)]
+pub fn assert_same_dataset(a: &Path, b: &Path) {
+    assert!(
+        dataset_files(a) == dataset_files(b),
+        "{} and {} differ",
+        a.display(),
+        b.display()
+    );
+    assert_eq!(
+        std::fs::read(a.join("manifest.jsonl")).unwrap(),
+        std::fs::read(b.join("manifest.jsonl")).unwrap(),
+        "the manifests of {} and {} differ",
+        a.display(),
+        b.display()
+    );
+}

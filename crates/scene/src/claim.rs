@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 use motorgen::export::{temporary_token, writer_token};
 
-use crate::dataset::Shard;
+use crate::dataset::{Shard, files_in};
 use crate::error::{Error, Result};
 
 /// The locks a run holds on its output folder while it writes; dropping it releases them.
@@ -126,16 +126,8 @@ impl Claim {
             Ok(is)
         };
         for dir in dirs {
-            let Ok(entries) = std::fs::read_dir(dir) else {
-                continue;
-            };
-            for entry in entries {
-                let path = entry.map_err(Error::io(dir))?.path();
-                let name = path
-                    .file_name()
-                    .and_then(|n| n.to_str())
-                    .unwrap_or_default();
-                if let Some(token) = temporary_token(name)
+            for (path, name) in files_in(dir)? {
+                if let Some(token) = temporary_token(&name)
                     && !alive(token)?
                 {
                     remove(&path)?;
@@ -143,12 +135,7 @@ impl Claim {
             }
         }
         // the dead writers' lock files
-        for entry in std::fs::read_dir(&writers).map_err(Error::io(&writers))? {
-            let path = entry.map_err(Error::io(&writers))?.path();
-            let name = path
-                .file_name()
-                .and_then(|n| n.to_str())
-                .unwrap_or_default();
+        for (path, name) in files_in(&writers)? {
             let token = name.strip_suffix(".lock").unwrap_or(writer_token());
             if token != writer_token() && !held(&path)? {
                 remove(&path)?;

@@ -582,15 +582,7 @@ fn write_rows(path: &Path, rows: &[Row]) -> Result<()> {
 /// counts once.
 fn read_all_rows(out: &Path) -> Result<BTreeMap<u64, Row>> {
     let mut rows = BTreeMap::new();
-    let Ok(entries) = std::fs::read_dir(out) else {
-        return Ok(rows);
-    };
-    for entry in entries {
-        let path = entry.map_err(Error::io(out))?.path();
-        let name = path
-            .file_name()
-            .and_then(|n| n.to_str())
-            .unwrap_or_default();
+    for (path, name) in files_in(out)? {
         if !(name.starts_with("manifest") && name.ends_with(".jsonl")) {
             continue;
         }
@@ -630,4 +622,24 @@ fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
         ),
     };
     format!("sample {} holds no point: {what}", sample.index)
+}
+
+/// The entries of `dir` with their names (none when `dir` does not exist).
+pub(crate) fn files_in(dir: &Path) -> Result<Vec<(PathBuf, String)>> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(Error::io(dir)(e)),
+    };
+    entries
+        .map(|entry| {
+            let path = entry.map_err(Error::io(dir))?.path();
+            let name = path
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned();
+            Ok((path, name))
+        })
+        .collect()
 }

@@ -16,4 +16,12 @@ pub enum Error {
     /// A preset name that does not exist.
     #[error("unknown sensor preset \"{0}\": expected one of {presets}", presets = crate::spec::PRESETS.join(", "))]
     UnknownPreset(String),
+    /// A mesh file that cannot be read.
+    #[error("cannot read mesh {path}: {why}")]
+    Mesh {
+        /// The file.
+        path: String,
+        /// What is wrong, in words.
+        why: String,
+    },
 }

@@ -3,7 +3,8 @@
 //! noise models and labelled outputs. Scene-agnostic: it scans any labelled triangle meshes.
 //!
 //! - [`Target`]: a triangle mesh with a class (per mesh or per triangle), an instance and a
-//!   [`Material`]; a [`World`] holds the targets in one BVH.
+//!   [`Material`]; a [`World`] holds the targets in one BVH; [`mesh::read`] reads OBJ, STL and
+//!   PLY files as targets.
 //! - [`SensorSpec`]: camera [`Intrinsics`], sensor [`Model`], [`Noise`] and working range;
 //!   [`SensorSpec::preset`] gives the Zivid, Blensor, Kinect and ideal presets.
 //! - [`scan()`] (and [`scan_within`] a region, [`scan_reusing`] a buffer): one organized
@@ -44,6 +45,7 @@ pub mod cloud;
 mod epipolar;
 mod error;
 pub mod formats;
+pub mod mesh;
 pub mod noise;
 pub mod scan;
 pub mod shapes;

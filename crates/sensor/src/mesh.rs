@@ -1,31 +1,70 @@
-//! Reading OBJ, STL and PLY meshes into labelled scan targets.
+//! Reading OBJ, STL and PLY meshes into labelled scan targets, with bounds: only regular files
+//! (a FIFO or a device would block or never end), an OBJ's material library never followed, a
+//! binary STL exactly as long as its triangle count says, and errors in words.
 
 use std::path::Path;
 
 use glam::Vec3;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{DefaultElement, Property};
-use sensor::{Classes, Material, Target};
 
-use crate::error::{CliError, CliResult};
+use crate::error::Error;
+use crate::world::{Classes, Material, Target};
 
-/// Reads a mesh as targets: one with instance 1 and class 1, or, for a PLY with per-face
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshFormat {
+    /// Wavefront OBJ.
+    Obj,
+    /// STL, binary or ASCII.
+    Stl,
+    /// PLY, ASCII or binary.
+    Ply,
+}
+
+impl MeshFormat {
+    /// The format a file name's extension names (any case).
+    pub fn of(path: &Path) -> Option<MeshFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "obj" => Some(MeshFormat::Obj),
+            "stl" => Some(MeshFormat::Stl),
+            "ply" => Some(MeshFormat::Ply),
+            _ => None,
+        }
+    }
+}
+
+/// Reads a mesh file as targets: one with instance 1 and class 1, or, for a PLY with per-face
 /// `class` and `instance` properties (as `motorfactory motor` writes them), one per instance with
 /// the file's labels.
-pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
-    let bad = |why: String| CliError::Usage(format!("cannot read mesh {}: {why}", path.display()));
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    if !["obj", "stl", "ply"].contains(&ext.as_str()) {
-        return Err(bad(format!(
+///
+/// # Example
+///
+/// ```
+/// let path = std::env::temp_dir().join("mesh-doc-example.obj");
+/// std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+/// let targets = sensor::mesh::read(&path)?;
+/// assert_eq!(targets[0].triangles, [[0, 1, 2]]);
+/// # Ok::<(), sensor::Error>(())
+/// ```
+///
+/// # Errors
+///
+/// [`Error::Mesh`] naming the file and what is wrong: an unknown extension, a file that is
+/// missing, not a regular file or not valid in its format, out-of-range vertex indices,
+/// non-finite coordinates, or no triangles.
+pub fn read(path: &Path) -> Result<Vec<Target>, Error> {
+    let bad = |why: String| Error::Mesh {
+        path: path.display().to_string(),
+        why,
+    };
+    let format = MeshFormat::of(path).ok_or_else(|| {
+        bad(format!(
             "unknown extension \"{}\": expected obj, stl or ply",
-            motorgen::shown(&ext)
-        )));
-    }
-    // only regular files: a FIFO or a device would block or never end
+            path.extension().unwrap_or_default().to_string_lossy()
+        ))
+    })?;
     let unreadable = |e: std::io::Error| {
         bad(match e.kind() {
             std::io::ErrorKind::NotFound => "no such file".into(),
@@ -37,8 +76,17 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
         return Err(bad("not a regular file".into()));
     }
     let bytes = std::fs::read(path).map_err(unreadable)?;
-    let targets = match ext.as_str() {
-        "obj" => {
+    parse(&bytes, format).map_err(bad)
+}
+
+/// Parses a mesh held in memory as [`read`] does a file.
+///
+/// # Errors
+///
+/// What is wrong with the bytes, in words.
+pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Vec<Target>, String> {
+    let targets = match format {
+        MeshFormat::Obj => {
             let options = tobj::LoadOptions {
                 triangulate: true,
                 single_index: true,
@@ -48,7 +96,7 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
             let (models, _) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| {
                 Ok((Vec::new(), Default::default()))
             })
-            .map_err(|e| bad(format!("not a valid OBJ file: {}", obj_error(&e))))?;
+            .map_err(|e| format!("not a valid OBJ file: {}", obj_error(&e)))?;
             let mut positions = Vec::new();
             let mut triangles = Vec::new();
             for m in models {
@@ -63,10 +111,10 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
             }
             vec![target(positions, triangles, Classes::Uniform(1), 1)]
         }
-        "stl" => {
-            check_stl_size(&bytes).map_err(bad)?;
-            let stl = stl_io::read_stl(&mut std::io::Cursor::new(&bytes))
-                .map_err(|e| bad(format!("not a valid STL file: {}", io_error(&e))))?;
+        MeshFormat::Stl => {
+            check_stl_size(bytes)?;
+            let stl = stl_io::read_stl(&mut std::io::Cursor::new(bytes))
+                .map_err(|e| format!("not a valid STL file: {}", io_error(&e)))?;
             let positions = stl
                 .vertices
                 .iter()
@@ -79,10 +127,10 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
                 .collect();
             vec![target(positions, triangles, Classes::Uniform(1), 1)]
         }
-        _ => read_ply(&bytes).map_err(|e| bad(format!("not a valid PLY file: {e}")))?,
+        MeshFormat::Ply => read_ply(bytes).map_err(|e| format!("not a valid PLY file: {e}"))?,
     };
     if targets.iter().all(|t| t.triangles.is_empty()) {
-        return Err(bad("it holds no triangles".into()));
+        return Err("it holds no triangles".into());
     }
     for t in &targets {
         if t.triangles
@@ -91,9 +139,7 @@ pub fn read_targets(path: &Path) -> CliResult<Vec<Target>> {
             .any(|&i| i as usize >= t.positions.len())
             || t.positions.iter().any(|p| !p.is_finite())
         {
-            return Err(bad(
-                "it has out-of-range vertex indices or non-finite coordinates".into(),
-            ));
+            return Err("it has out-of-range vertex indices or non-finite coordinates".into());
         }
     }
     Ok(targets)
@@ -181,7 +227,7 @@ fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
         .read_ply(&mut &bytes[..])
         .map_err(|e| match e.kind() {
             std::io::ErrorKind::UnexpectedEof => "the file ends early".to_string(),
-            _ => motorgen::shown(&e.to_string()),
+            _ => e.to_string(),
         })?;
     let vertices = ply.payload.get("vertex").ok_or("no vertex element")?;
     let positions: Vec<Vec3> = vertices
