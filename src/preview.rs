@@ -23,7 +23,7 @@ pub struct PreviewCmd {
     /// Output PNG (a `.png` file in an existing folder).
     #[arg(long)]
     out: PathBuf,
-    /// Width of each preview, pixels.
+    /// Width of each preview, 16 to 8192 pixels.
     #[arg(long, default_value_t = 640)]
     width: u32,
     /// Samples on a contact sheet, from 1.

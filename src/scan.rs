@@ -102,13 +102,23 @@ impl ScanCmd {
         spec.intrinsics = spec.intrinsics.binned(self.binning);
         spec.validate()
             .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
+        // the meshes are read whole, then held as targets and in the BVH: about four times
+        // their files' size
+        let meshes: u64 = self
+            .meshes
+            .iter()
+            .filter_map(|m| std::fs::metadata(m).ok())
+            .map(|m| m.len())
+            .sum();
         crate::memory::ensure_fits(
-            spec.scan_memory(),
+            spec.scan_memory().saturating_add(meshes.saturating_mul(4)),
             &format!(
-                "a scan with a {}x{} sensor",
-                spec.intrinsics.width, spec.intrinsics.height
+                "a scan with a {}x{} sensor of {} of meshes",
+                spec.intrinsics.width,
+                spec.intrinsics.height,
+                crate::memory::size(meshes)
             ),
-            "scan at a lower resolution (--binning 2 or 4)",
+            "scan at a lower resolution (--binning 2 or 4) or a smaller mesh",
         )?;
         let v = numbers("look-at", &self.look_at, 6)?;
         let up = numbers("up", &self.up, 3)?;

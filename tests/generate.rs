@@ -345,3 +345,32 @@ fn built_in_configs_print_and_sweeps_vary_their_key() {
         assert!((l - e).abs() < 1e-6, "{lengths:?}");
     }
 }
+
+#[test]
+fn a_sweep_of_100000_combinations_starts_at_once_and_gives_each_sample_its_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("sweep.toml");
+    std::fs::write(
+        &config,
+        "[[sweep]]\nkey = \"camera.distance\"\nlinspace = [0.55, 0.65, 1000]\n\n\
+         [[sweep]]\nkey = \"camera.tilt_deg\"\nlinspace = [0, 9.9, 100]\n",
+    )
+    .unwrap();
+    let out = dir.path().join("ds");
+    ok(&generate(
+        &out,
+        &["--config", config.to_str().unwrap(), "-n", "102"],
+    ));
+    // the last sweep runs fastest: sample 101 takes distance 2 of 1000 and tilt 1 of 100
+    let manifest = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
+    let row: serde_json::Value = serde_json::from_str(manifest.lines().last().unwrap()).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join(row["json"].as_str().unwrap())).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(doc["index"], 101);
+    let d = doc["sweep"]["camera.distance"].as_f64().unwrap();
+    let t = doc["sweep"]["camera.tilt_deg"].as_f64().unwrap();
+    assert!((d - (0.55 + 0.1 / 999.0)).abs() < 1e-9, "{d}");
+    assert!((t - 0.1).abs() < 1e-9, "{t}");
+}
