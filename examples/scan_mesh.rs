@@ -1,35 +1,29 @@
-//! Scans an STL mesh with a sensor preset from a camera position, and writes the valid points as
-//! a PLY cloud in the camera frame (OpenCV's: x right, y down, z forward), in metres.
+//! Scans a mesh file (OBJ, STL or PLY) with a sensor preset from a camera position, and writes
+//! the valid points as a PLY cloud in the camera frame (OpenCV's: x right, y down, z forward), in
+//! metres.
 //!
-//! Usage: `cargo run --release --example scan_mesh -- MESH.stl PRESET EX,EY,EZ OUT.ply`
+//! Usage: `cargo run --release --example scan_mesh -- MESH PRESET EX,EY,EZ OUT.ply`
 //! (the camera at EX,EY,EZ looks at the mesh's centre; `motorfactory motor --format stl` writes
 //! a mesh to try, and `zivid-2plus-m130` is a preset).
 
 use glam::Vec3;
 use sensor::formats::CloudFormat;
-use sensor::{Frame, Material, SensorSpec, Target, Units, World, look_at, scan};
+use sensor::{Frame, SensorSpec, Units, World, look_at, scan};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let [mesh, preset, eye, out] = args.as_slice() else {
-        return Err("usage: scan_mesh MESH.stl PRESET EX,EY,EZ OUT.ply".into());
+        return Err("usage: scan_mesh MESH PRESET EX,EY,EZ OUT.ply".into());
     };
-    let stl = stl_io::read_stl(&mut std::fs::File::open(mesh)?)?;
-    let corner = |i: usize| Vec3::from_array(stl.vertices[i].into());
-    let triangles: Vec<[Vec3; 3]> = stl.faces.iter().map(|f| f.vertices.map(corner)).collect();
-    let (lo, hi) = triangles
+    // one target of class 1 (a PLY written by `motorfactory motor` keeps its parts' labels)
+    let targets = sensor::mesh::read(mesh.as_ref())?;
+    let (lo, hi) = targets
         .iter()
-        .flatten()
+        .flat_map(|t| &t.positions)
         .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
             (lo.min(p), hi.max(p))
         });
-    // one instance of class 1, grey plastic
-    let world = World::new(&[Target::from_triangles(
-        &triangles,
-        1,
-        1,
-        Material::default(),
-    )]);
+    let world = World::new(&targets);
     let sensor = SensorSpec::preset(preset)?;
     let eye: Vec<f32> = eye.split(',').map(str::parse).collect::<Result<_, _>>()?;
     let eye = Vec3::from_slice(&eye);
@@ -41,7 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "{} points of {} triangles seen by {preset}, written to {out}",
         cloud.len(),
-        triangles.len()
+        world.triangle_count()
     );
     Ok(())
 }
