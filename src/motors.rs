@@ -225,8 +225,15 @@ impl MotorsCmd {
     pub fn run(&self) -> CliResult<()> {
         let plan = self.mesh.plan(ParamSpace::addon())?;
         plan.space.sample(derive_seed(plan.seed, 0))?;
+        // a CSV row (about 300 bytes) per motor until the end, and a motor in flight per job
+        let jobs = self.jobs.unwrap_or_else(rayon::current_num_threads);
+        crate::memory::ensure_fits(
+            self.count.saturating_mul(512).saturating_add(jobs as u64 * (64 << 20)),
+            &format!("{} motors", self.count),
+            "lower -n and make the rest with another --seed",
+        )?;
         let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.jobs.unwrap_or(0))
+            .num_threads(jobs)
             .build()
             .map_err(|e| CliError::Usage(format!("--jobs {:?}: {e}", self.jobs)))?;
         let progress = Progress::new(self.count, "motors", self.quiet);
