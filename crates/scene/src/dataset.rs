@@ -280,17 +280,16 @@ impl Dataset {
             |what: String| Error::Output(format!("output folder {}: {what}", out.display()));
         std::fs::create_dir_all(out).map_err(|e| unusable(e.to_string()))?;
         let claim = Claim::take(out, self.shard)?;
-        let _setup = claim.setup()?;
         let config = out.join("config.toml");
-        if let Ok(existing) = std::fs::read_to_string(&config)
-            && !same_dataset(&existing, &self.resolved)
-        {
-            return Err(unusable(
+        let same_config = || match std::fs::read_to_string(&config) {
+            Ok(existing) if !same_dataset(&existing, &self.resolved) => Err(unusable(
                 "holds a dataset of another configuration (its config.toml differs); choose \
                  another --out"
                     .into(),
-            ));
-        }
+            )),
+            _ => Ok(()),
+        };
+        same_config()?;
         let shard = self.shard;
         let rows: Vec<Row> = read_all_rows(out)?
             .into_values()
@@ -308,7 +307,10 @@ impl Dataset {
                 last.index, self.samples
             )));
         }
+        // made before the shared files are touched, so that shards probe side by side
         let first = self.first_sample(&rows)?;
+        let setup = claim.setup()?;
+        same_config()?;
         save(&config, &|w| w.write_all(self.resolved.as_bytes()))?;
         let scheme = self.scheme();
         let labels = serde_json::json!({
@@ -325,7 +327,7 @@ impl Dataset {
             dirs.push(dir);
         }
         claim.remove_stale_temporaries(&dirs)?;
-        drop(_setup);
+        drop(setup);
         Ok(Prepared {
             claim,
             done: rows,
