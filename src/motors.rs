@@ -228,7 +228,9 @@ impl MotorsCmd {
         // a CSV row (about 300 bytes) per motor until the end, and a motor in flight per job
         let jobs = self.jobs.unwrap_or_else(rayon::current_num_threads);
         crate::memory::ensure_fits(
-            self.count.saturating_mul(512).saturating_add(jobs as u64 * (64 << 20)),
+            self.count
+                .saturating_mul(512)
+                .saturating_add(jobs as u64 * (64 << 20)),
             &format!("{} motors", self.count),
             "lower -n and make the rest with another --seed",
         )?;

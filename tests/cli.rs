@@ -610,7 +610,25 @@ fn meshes_are_read_only_from_regular_files_and_only_as_far_as_they_say() {
     std::fs::write(&cut, &stl[..120]).unwrap();
     let nul = dir.path().join("nul.obj");
     std::fs::write(&nul, b"v 0 0 0\n\0\0\xff\xfe binary\n").unwrap();
-    for (mesh, says) in [(&cut, "134 bytes"), (&nul, "not a valid OBJ file")] {
+    // found by fuzzing: an element without properties, which a PLY reader would read forever
+    let empty_element = dir.path().join("empty-element.ply");
+    std::fs::write(
+        &empty_element,
+        b"ply\nformat binary_little_endian 1.0\nelement vfthdz\t11111111111\nend_header\ner\n\x01\0\0 \0",
+    )
+    .unwrap();
+    let promises = dir.path().join("promises.ply");
+    std::fs::write(
+        &promises,
+        "ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\nend_header\n0\n",
+    )
+    .unwrap();
+    for (mesh, says) in [
+        (&cut, "134 bytes"),
+        (&nul, "not a valid OBJ file"),
+        (&empty_element, "element vfthdz has no properties"),
+        (&promises, "promises 1000000000 elements"),
+    ] {
         let o = scan_mesh(mesh, &out);
         assert_eq!(o.status.code(), Some(2));
         let err = stderr(&o);

@@ -223,12 +223,28 @@ fn check_stl_size(bytes: &[u8]) -> Result<(), String> {
 
 /// A PLY mesh; with per-face `instance`, one target per instance.
 fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
-    let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut &bytes[..])
-        .map_err(|e| match e.kind() {
-            std::io::ErrorKind::UnexpectedEof => "the file ends early".to_string(),
-            _ => e.to_string(),
-        })?;
+    let in_words = |e: ply_rs_bw::parser::ParseError| match e.kind() {
+        std::io::ErrorKind::UnexpectedEof => "the file ends early".to_string(),
+        _ => e.to_string(),
+    };
+    let parser = Parser::<DefaultElement>::new();
+    // every element takes at least a byte, so a header may not promise more elements than the
+    // file has bytes (an element without properties would take none, and be read forever)
+    let header = parser.read_ply_header(&mut &bytes[..]).map_err(in_words)?;
+    let mut promised = 0usize;
+    for (name, element) in &header.elements {
+        if element.count > 0 && element.properties.is_empty() {
+            return Err(format!("element {name} has no properties"));
+        }
+        promised = promised.saturating_add(element.count);
+    }
+    if promised > bytes.len() {
+        return Err(format!(
+            "its header promises {promised} elements, more than its {} bytes can hold",
+            bytes.len()
+        ));
+    }
+    let ply = parser.read_ply(&mut &bytes[..]).map_err(in_words)?;
     let vertices = ply.payload.get("vertex").ok_or("no vertex element")?;
     let positions: Vec<Vec3> = vertices
         .iter()
