@@ -73,6 +73,9 @@ pub struct MeshArgs {
     /// Output folder.
     #[arg(long)]
     out: PathBuf,
+    /// Replace an earlier output in the folder: its files are removed first.
+    #[arg(long)]
+    replace: bool,
 }
 
 /// What to build and how to write it, checked.
@@ -88,8 +91,10 @@ struct Plan {
 
 impl MeshArgs {
     /// Resolves config and arguments into a plan; `base` gives the space before `[params]` and
-    /// `--set` apply. Creates the output folder (the only write before generation).
-    fn plan(&self, base: ParamSpace) -> CliResult<Plan> {
+    /// `--set` apply. Creates the output folder, and with `--replace` removes what an earlier
+    /// run of `motor` (`many` false) or `motors` wrote there (the only writes before
+    /// generation).
+    fn plan(&self, base: ParamSpace, many: bool) -> CliResult<Plan> {
         let config = MotorsConfig::read(self.config.as_deref())?;
         let mut space = base;
         for (key, value) in config.params.iter().flatten() {
@@ -126,6 +131,23 @@ impl MeshArgs {
                 "exploded = {exploded} is not allowed: expected a number from 0 to 10"
             )));
         }
+        let earlier = earlier_output(&self.out, many)?;
+        if !earlier.is_empty() && !self.replace {
+            return Err(CliError::Usage(format!(
+                "output folder {} already holds {}; pass --replace to replace it, or choose \
+                 another --out",
+                self.out.display(),
+                if many { "motors" } else { "a motor" }
+            )));
+        }
+        for path in earlier {
+            let removed = if path.is_dir() {
+                std::fs::remove_dir_all(&path)
+            } else {
+                std::fs::remove_file(&path)
+            };
+            removed.map_err(|e| CliError::Runtime(format!("{}: {e}", path.display())))?;
+        }
         std::fs::create_dir_all(&self.out).map_err(|e| {
             CliError::Usage(format!(
                 "cannot create output folder {}: {e}",
@@ -161,6 +183,55 @@ impl Plan {
     }
 }
 
+/// What an earlier `motor` (`many` false: the files its `attributes.json` lists, in every mesh
+/// format, `materials.mtl` and `attributes.json`) or `motors` (`attributes.csv` and the
+/// `motor_NNNNNN` folders) wrote in `out`.
+fn earlier_output(out: &Path, many: bool) -> CliResult<Vec<PathBuf>> {
+    let mut found = Vec::new();
+    if many {
+        for entry in std::fs::read_dir(out).into_iter().flatten().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let numbered = name
+                .strip_prefix("motor_")
+                .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+            if name == "attributes.csv" || (numbered && entry.path().is_dir()) {
+                found.push(entry.path());
+            }
+        }
+        found.sort();
+        return Ok(found);
+    }
+    let json = out.join("attributes.json");
+    let Ok(text) = std::fs::read_to_string(&json) else {
+        return Ok(found);
+    };
+    let doc: serde_json::Value = serde_json::from_str(&text).map_err(|_| {
+        CliError::Usage(format!(
+            "{} is not a motor's: choose another --out",
+            json.display()
+        ))
+    })?;
+    let parts = doc["attributes"]["parts"].as_array().into_iter().flatten();
+    let names = parts
+        .filter_map(|p| p["name"].as_str())
+        .chain(["motor"])
+        .map(String::from);
+    for name in names {
+        for format in Format::ALL {
+            let file = out.join(format!("{name}.{}", format.extension()));
+            if file.is_file() {
+                found.push(file);
+            }
+        }
+    }
+    found.extend(
+        [out.join("materials.mtl"), json]
+            .into_iter()
+            .filter(|f| f.is_file()),
+    );
+    Ok(found)
+}
+
 /// `motorfactory motor`: one motor.
 #[derive(Debug, Args)]
 pub struct MotorCmd {
@@ -179,7 +250,7 @@ impl MotorCmd {
         } else {
             defaults_space()
         };
-        let plan = self.mesh.plan(base)?;
+        let plan = self.mesh.plan(base, false)?;
         let motor = plan.motor(plan.seed)?;
         plan.write(&motor, &plan.out)?;
         let triangles: usize = motor.parts.iter().map(|p| p.mesh.triangle_count()).sum();
@@ -223,7 +294,7 @@ pub struct MotorsCmd {
 impl MotorsCmd {
     /// Runs the command: `motor_NNNNNN/` folders and `attributes.csv` with one row per motor.
     pub fn run(&self) -> CliResult<()> {
-        let plan = self.mesh.plan(ParamSpace::addon())?;
+        let plan = self.mesh.plan(ParamSpace::addon(), true)?;
         plan.space.sample(derive_seed(plan.seed, 0))?;
         // a CSV row (about 300 bytes) per motor until the end, and a motor in flight per job
         let jobs = self.jobs.unwrap_or_else(rayon::current_num_threads);

@@ -1007,3 +1007,57 @@ fn preview_and_scan_options_follow_the_common_rules() {
         serde_json::from_str(&std::fs::read_to_string(scan.join("scan.json")).unwrap()).unwrap();
     assert_eq!(summary["units"], "millimetres");
 }
+
+#[test]
+fn an_earlier_motor_output_is_refused_unless_replaced_and_then_removed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m");
+    let o = out.to_str().unwrap();
+    let motor =
+        |extra: &[&str]| run(&[&["motor", "--detail", "coarse", "--out", o][..], extra].concat());
+    assert!(motor(&["--format", "obj,stl"]).status.success());
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let refused = motor(&["--format", "ply"]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(stderr(&refused).contains("already holds a motor; pass --replace"));
+    let o2 = motor(&["--format", "ply", "--set", "type=B", "--replace"]);
+    assert!(o2.status.success(), "{}", stderr(&o2));
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    // type B's parts in PLY, the user's file, nothing of the type A motor
+    assert!(names.contains(&"gear.ply".to_string()) && names.contains(&"notes.txt".to_string()));
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.ends_with(".obj") || n.ends_with(".stl") || n == "lower_gear.ply"),
+        "{names:?}"
+    );
+
+    let many = dir.path().join("many");
+    let m = many.to_str().unwrap();
+    let motors = |n: &str, extra: &[&str]| {
+        run(&[
+            &[
+                "motors", "-n", n, "--detail", "coarse", "--quiet", "--out", m,
+            ][..],
+            extra,
+        ]
+        .concat())
+    };
+    assert!(motors("3", &[]).status.success());
+    assert_eq!(motors("2", &[]).status.code(), Some(2));
+    assert!(motors("2", &["--replace"]).status.success());
+    assert!(
+        !many.join("motor_000002").exists(),
+        "a motor beyond the new count is left"
+    );
+    assert_eq!(
+        std::fs::read_to_string(many.join("attributes.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        3
+    );
+}

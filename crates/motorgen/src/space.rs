@@ -200,24 +200,33 @@ impl ParamSpace {
         self.dists.get(key).unwrap_or(&Dist::Auto)
     }
 
-    /// Checks rules between parameters: the upper-gear bolt angles are all "auto" or all given,
-    /// and given ones are ordered with at least 10° between any two draws.
+    /// Checks rules between parameters: the angles of the upper-gear bolts in use (up to the
+    /// largest `upper_bolt_count` drawn) are all "auto" or all given, and given ones are
+    /// ordered with at least 10° between any two draws.
     ///
     /// # Errors
     ///
     /// [`Error::Distribution`] naming the upper-gear bolt angle that
     /// breaks either rule.
     pub fn check(&self) -> Result<()> {
-        let keys = ["upper_bolt_1_deg", "upper_bolt_2_deg", "upper_bolt_3_deg"];
+        // only the bolts that can be in use: up to the largest upper_bolt_count drawn
+        let in_use = self
+            .get("upper_bolt_count")
+            .bounds()
+            .map_or(3, |(_, most)| (most as usize).clamp(1, 3));
+        let keys = &["upper_bolt_1_deg", "upper_bolt_2_deg", "upper_bolt_3_deg"][..in_use];
         let given: Vec<Option<(f64, f64)>> = keys.iter().map(|k| self.get(k).bounds()).collect();
         if given.iter().any(Option::is_some) {
             if let Some(k) = keys.iter().zip(&given).find(|(_, g)| g.is_none()) {
                 return Err(Error::Distribution {
                     key: k.0.to_string(),
-                    message: "set all of upper_bolt_1_deg, upper_bolt_2_deg and upper_bolt_3_deg, or none (\"auto\")".into(),
+                    message: format!(
+                        "set all of {} (the bolts in use), or none (\"auto\")",
+                        keys.join(", ")
+                    ),
                 });
             }
-            for k in 0..2 {
+            for k in 0..in_use - 1 {
                 let (hi, lo) = (given[k].unwrap().1, given[k + 1].unwrap().0);
                 if lo < hi + MIN_UPPER_BOLT_GAP_DEG as f64 {
                     return Err(Error::Distribution {

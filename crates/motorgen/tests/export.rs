@@ -155,7 +155,13 @@ fn glb_reads_back_with_gltf() {
     let m = motor(&[("type", "A"), ("extension_a", "type1")]);
     let dir = written(&m, &[Format::Glb]);
     let (doc, buffers, _) = gltf::import(dir.path().join("motor.glb")).unwrap();
-    let nodes: Vec<_> = doc.nodes().collect();
+    // one root, turning the motor's Z-up frame into glTF's Y-up: the motor axis (+z) is +y
+    let roots: Vec<_> = doc.default_scene().unwrap().nodes().collect();
+    assert_eq!(roots.len(), 1);
+    let turn = glam::Quat::from_array(roots[0].transform().decomposed().1);
+    assert!(turn.mul_vec3(Vec3::Z).distance(Vec3::Y) < 1e-6);
+    assert!(turn.mul_vec3(Vec3::X).distance(Vec3::X) < 1e-6);
+    let nodes: Vec<_> = roots[0].children().collect();
     assert_eq!(nodes.len(), m.parts.len());
     for (node, part) in nodes.iter().zip(&m.parts) {
         assert_eq!(node.name(), Some(part.name.as_str()));

@@ -189,3 +189,18 @@ fn huge_weights_draw_every_value_in_proportion() {
         .count();
     assert!((150..250).contains(&a), "{a} of 400 are type A");
 }
+
+#[test]
+fn only_the_bolts_in_use_are_checked() {
+    let angles = "upper_bolt_1_deg = 40\nupper_bolt_2_deg = 198\nupper_bolt_3_deg = 200\n";
+    // with two bolts the third angle is not used, so its 2° gap to the second does not matter
+    let two = space(&format!("upper_bolt_count = 2\n{angles}")).unwrap();
+    let p = two.sample(1).unwrap();
+    assert_eq!(p.upper_bolt_angles_deg(), [40.0, 198.0]);
+    let err = space(&format!("upper_bolt_count = 3\n{angles}"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("upper_bolt_3_deg"), "{err}");
+    // and the angles of unused bolts need not be given
+    assert!(space("upper_bolt_count = 1\nupper_bolt_1_deg = 90\n").is_ok());
+}

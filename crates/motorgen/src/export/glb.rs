@@ -136,8 +136,17 @@ pub fn write_glb(w: &mut dyn Write, parts: &[&Part]) -> Result<()> {
         }));
     }
     root.buffers[buffer.value()].byte_length = USize64::from(bin.len());
+    // glTF is Y-up: a root node turns the motor's Z-up frame by −90° about x, so that importers
+    // (Blender's among them) stand it upright
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    let upright = root.push(json::Node {
+        children: Some(nodes),
+        name: Some("motor".into()),
+        rotation: Some(json::scene::UnitQuaternion([-h, 0.0, 0.0, h])),
+        ..Default::default()
+    });
     let scene = root.push(json::Scene {
-        nodes,
+        nodes: vec![upright],
         name: None,
         extensions: None,
         extras: Default::default(),
