@@ -92,8 +92,21 @@ pub fn parse(bytes: &[u8], format: MeshFormat) -> Result<Vec<Target>, String> {
                 single_index: true,
                 ..Default::default()
             };
-            // materials are not used: an `mtllib` line is never followed
-            let (models, _) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| {
+            // only vertices, faces and object names are read: texture coordinates, normals
+            // and materials are not used (an `mtllib` line is never followed, and tobj's
+            // arithmetic on texture and normal indices overflows on hostile ones)
+            let geometry: Vec<u8> = bytes
+                .split(|&b| b == b'\n')
+                .filter(|line| {
+                    let word = line
+                        .trim_ascii_start()
+                        .split(u8::is_ascii_whitespace)
+                        .next();
+                    matches!(word, Some(b"v" | b"f" | b"o" | b"g"))
+                })
+                .flat_map(|line| line.iter().copied().chain([b'\n']))
+                .collect();
+            let (models, _) = tobj::load_obj_buf(&mut &geometry[..], &options, |_| {
                 Ok((Vec::new(), Default::default()))
             })
             .map_err(|e| format!("not a valid OBJ file: {}", obj_error(&e)))?;
