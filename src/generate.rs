@@ -136,22 +136,23 @@ impl GenerateCmd {
             ),
             "lower --jobs, -n or the sensor's resolution (sensor.binning)",
         )?;
-        let prepared = dataset.prepare(self.resume).map_err(scene_error)?;
-        let progress = Progress::new(dataset.shard_samples(), "samples", self.quiet);
-        for _ in prepared.done() {
-            progress.tick();
-        }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)
             .build()
             .map_err(|e| CliError::Runtime(e.to_string()))?;
-        let summary = pool
-            .install(|| {
-                dataset.run(prepared, &|_| progress.tick(), &|| {
-                    signals.caught().is_some()
-                })
-            })
-            .map_err(scene_error)?;
+        // prepared in the pool: the first sample, made to check it, leaves its scan buffer with
+        // a worker that reuses it
+        let (summary, progress) = pool.install(|| {
+            let prepared = dataset.prepare(self.resume).map_err(scene_error)?;
+            let progress = Progress::new(dataset.shard_samples(), "samples", self.quiet);
+            for _ in prepared.done() {
+                progress.tick();
+            }
+            let summary = dataset
+                .run(prepared, &|_| progress.tick(), &|| signals.caught().is_some())
+                .map_err(scene_error)?;
+            Ok::<_, CliError>((summary, progress))
+        })?;
         if let (true, Some(signal)) = (summary.stopped, signals.caught()) {
             progress.finish();
             return Err(CliError::Stopped(
