@@ -149,7 +149,9 @@ impl GenerateCmd {
                 progress.tick();
             }
             let summary = dataset
-                .run(prepared, &|_| progress.tick(), &|| signals.caught().is_some())
+                .run(prepared, &|_| progress.tick(), &|| {
+                    signals.caught().is_some()
+                })
                 .map_err(scene_error)?;
             Ok::<_, CliError>((summary, progress))
         })?;

@@ -61,14 +61,14 @@ fn wait_for_rows(child: &mut Child, path: &Path, n: usize) {
 fn a_second_run_into_a_busy_folder_is_refused_and_the_first_finishes_alone() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("m");
-    let mut first = generate(&out, &["-n", "12", "--seed", "7", "--jobs", "1"])
+    let mut first = generate(&out, &["-n", "40", "--seed", "7", "--jobs", "1"])
         .spawn()
         .unwrap();
     wait_for_rows(&mut first, &out.join("manifest.jsonl"), 1);
     for extra in [
-        &["-n", "12", "--seed", "8"][..],
-        &["-n", "12", "--seed", "7", "--resume"],
-        &["-n", "12", "--seed", "7", "--shard", "1/2", "--resume"],
+        &["-n", "40", "--seed", "8"][..],
+        &["-n", "40", "--seed", "7", "--resume"],
+        &["-n", "40", "--seed", "7", "--shard", "1/2", "--resume"],
     ] {
         let o = generate(&out, extra).output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
@@ -77,7 +77,7 @@ fn a_second_run_into_a_busy_folder_is_refused_and_the_first_finishes_alone() {
     }
     ok(&first.wait_with_output().unwrap());
     let alone = dir.path().join("alone");
-    ok(&generate(&alone, &["-n", "12", "--seed", "7"])
+    ok(&generate(&alone, &["-n", "40", "--seed", "7"])
         .output()
         .unwrap());
     assert_same_dataset(&out, &alone);
