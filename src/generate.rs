@@ -124,8 +124,7 @@ impl GenerateCmd {
         let dataset = Dataset::new(self.table()?, self.samples, self.seed, shard, &self.out)
             .map_err(scene_error)?;
         let jobs = self.jobs.unwrap_or_else(rayon::current_num_threads);
-        let first = dataset.recipe(0).map_err(scene_error)?;
-        let sensor = &first.sensor().intrinsics;
+        let sensor = &dataset.sensor().intrinsics;
         memory::ensure_fits(
             dataset.memory_needed(jobs),
             &format!(

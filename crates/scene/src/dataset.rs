@@ -105,7 +105,7 @@ pub struct Row {
 /// # Ok::<(), scene::Error>(())
 /// ```
 pub struct Dataset {
-    /// The recipe without sweeps, or that of the sweeps' first combination.
+    /// The recipe of the sweeps' first combination (the configuration itself without sweeps).
     base: Arc<Recipe>,
     /// The configuration table the sweeps are laid over.
     table: toml::Table,
@@ -179,40 +179,22 @@ impl Dataset {
              reads it back).\n{}",
             toml::to_string(&base).map_err(|e| Error::Config(e.to_string()))?
         );
-        let mut dataset = Dataset {
-            base: Arc::new(Recipe::new(base.clone(), Vec::new())?),
+        // the first combination stands for the dataset (its labels, sensor and memory); the
+        // first samples' combinations are checked before anything is written, the others when
+        // their samples are made
+        let first = combination(&table, &combinations, 0)?;
+        for c in 1..combinations.total().min(16) {
+            combination(&table, &combinations, c)?;
+        }
+        Ok(Dataset {
+            base: first,
             table,
             combinations,
             samples: base.samples,
             shard,
             out: out.to_path_buf(),
             resolved,
-        };
-        if dataset.combinations.total() > 1 {
-            // the first combination stands for the dataset's labels; the first samples' are
-            // checked before anything is written, the others when their samples are made
-            for c in (0..dataset.combinations.total()).take(16) {
-                let recipe = dataset.combination(c)?;
-                if c == 0 {
-                    dataset.base = recipe;
-                }
-            }
-        }
-        Ok(dataset)
-    }
-
-    /// The recipe of combination `c` of the sweeps.
-    fn combination(&self, c: u64) -> Result<Arc<Recipe>> {
-        let combo = self.combinations.get(c);
-        let mut t = self.table.clone();
-        for (key, value) in &combo {
-            set_key(&mut t, key, value.clone())?;
-        }
-        let config = Config::from_table(&t).map_err(|e| {
-            let at: Vec<String> = combo.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-            Error::Config(format!("with sweep {}: {e}", at.join(", ")))
-        })?;
-        Ok(Arc::new(Recipe::new(config, combo)?))
+        })
     }
 
     /// The recipe of sample `index`: its combination of the sweeps' values, if any.
@@ -224,7 +206,7 @@ impl Dataset {
         if self.combinations.total() == 1 {
             Ok(self.base.clone())
         } else {
-            self.combination(index % self.combinations.total())
+            combination(&self.table, &self.combinations, index)
         }
     }
 
@@ -238,11 +220,16 @@ impl Dataset {
         } else {
             1
         };
-        let per_job = views * self.base.sensor().scan_memory() + (16 << 20);
+        let per_job = views * self.sensor().scan_memory() + (16 << 20);
         (jobs as u64)
             .saturating_mul(per_job)
             .saturating_add(self.shard_samples().saturating_mul(512))
             .saturating_add(32 << 20)
+    }
+
+    /// The sensor of the dataset's samples (of the sweeps' first combination), binning applied.
+    pub fn sensor(&self) -> &sensor::SensorSpec {
+        self.base.sensor()
     }
 
     /// The label scheme of the dataset's samples.
@@ -537,6 +524,20 @@ impl Dataset {
             class_counts,
         })
     }
+}
+
+/// The recipe of combination `c` of `combinations` laid over `table`.
+fn combination(table: &toml::Table, combinations: &Combinations, c: u64) -> Result<Arc<Recipe>> {
+    let combo = combinations.get(c);
+    let mut t = table.clone();
+    for (key, value) in &combo {
+        set_key(&mut t, key, value.clone())?;
+    }
+    let config = Config::from_table(&t).map_err(|e| {
+        let at: Vec<String> = combo.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+        Error::Config(format!("with sweep {}: {e}", at.join(", ")))
+    })?;
+    Ok(Arc::new(Recipe::new(config, combo)?))
 }
 
 /// Whether two resolved configurations make the same samples: equal but for `samples` (sample i

@@ -243,7 +243,8 @@ fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
     let parser = Parser::<DefaultElement>::new();
     // every element takes at least a byte, so a header may not promise more elements than the
     // file has bytes (an element without properties would take none, and be read forever)
-    let header = parser.read_ply_header(&mut &bytes[..]).map_err(in_words)?;
+    let mut reader = ply_rs_bw::parser::Reader::new(bytes);
+    let header = parser.read_header(&mut reader).map_err(in_words)?;
     let mut promised = 0usize;
     for (name, element) in &header.elements {
         if element.count > 0 && element.properties.is_empty() {
@@ -257,8 +258,10 @@ fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
             bytes.len()
         ));
     }
-    let ply = parser.read_ply(&mut &bytes[..]).map_err(in_words)?;
-    let vertices = ply.payload.get("vertex").ok_or("no vertex element")?;
+    let payload = parser
+        .read_payload(&mut reader, &header)
+        .map_err(in_words)?;
+    let vertices = payload.get("vertex").ok_or("no vertex element")?;
     let positions: Vec<Vec3> = vertices
         .iter()
         .map(|v| {
@@ -271,7 +274,7 @@ fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
             Ok(Vec3::new(c("x")?, c("y")?, c("z")?))
         })
         .collect::<Result<_, String>>()?;
-    let faces = ply.payload.get("face").ok_or("no face element")?;
+    let faces = payload.get("face").ok_or("no face element")?;
     // per instance: triangles and their classes
     let mut groups: std::collections::BTreeMap<u32, (Vec<[u32; 3]>, Vec<u16>)> = Default::default();
     for face in faces {
