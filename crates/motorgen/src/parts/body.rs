@@ -1,18 +1,24 @@
 //! The parts that do not turn with the gearbox: pole pot, magnets, armature, electric
 //! connection, and the gear container's collar and brush tower (centimetres, motor frame).
 
+use std::f32::consts::{PI, TAU};
+
 use glam::{Affine3A, Vec2, Vec3};
 
 use super::Dims;
-use super::shapes::{Tess, gear_outline, plate, sector};
+use super::shapes::{Tess, plate, sector};
 use crate::kernel::{Mesh, Pocket, Section, cuboid, sweep, sweep_loop};
 
 /// Pole-pot radius (the add-on's BOTTOM_DIA / 2).
 const POT_RADIUS: f32 = 2.0;
 /// Half the width across the pot's flats (BOTTOM_HEIGHT / 2).
 const POT_HALF_WIDTH: f32 = 1.5;
-/// Wall and floor thickness of the hollow pot.
-const POT_WALL: f32 = 0.2;
+/// Floor thickness of the hollow pot.
+const POT_FLOOR: f32 = 0.2;
+/// The cavity: the pot outline scaled by 0.9 across (as the add-on cuts it), so the wall is 2 mm
+/// thick at the arcs and 1.5 mm at the flats.
+const CAVITY_RADIUS: f32 = 0.9 * POT_RADIUS;
+const CAVITY_HALF_WIDTH: f32 = 0.9 * POT_HALF_WIDTH;
 /// Height of the gear-container collar (the add-on's BOLT_LENGTH).
 pub const COLLAR_HEIGHT: f32 = 1.4;
 /// Side-bolt positions (x, y) about the motor axis.
@@ -24,9 +30,9 @@ pub const HOLE_RADIUS: f32 = 0.175;
 
 /// The pot outline offset outwards by `u`, as a sweep section.
 fn pot_section(t: Tess, radius: f32, half_width: f32) -> Section {
-    let arc = std::f32::consts::PI - 2.0 * (half_width / radius).acos();
+    let arc = PI - 2.0 * (half_width / radius).acos();
     // even, so that the apex on ±y is a vertex and the outline keeps its full 4 cm depth
-    let arc_segments = ((t.n(radius) as f32 * arc / std::f32::consts::TAU).ceil() as usize)
+    let arc_segments = ((t.n(radius) as f32 * arc / TAU).ceil() as usize)
         .max(2)
         .next_multiple_of(2);
     Section::FlatCircle {
@@ -41,8 +47,8 @@ fn pot_section(t: Tess, radius: f32, half_width: f32) -> Section {
 pub fn pole_pot(t: Tess, d: &Dims) -> Mesh {
     let s = pot_section(t, POT_RADIUS, POT_HALF_WIDTH);
     let cavity = Pocket {
-        outline: s.ring(-POT_WALL),
-        depth: d.bottom - POT_WALL,
+        outline: pot_section(t, CAVITY_RADIUS, CAVITY_HALF_WIDTH).ring(0.0),
+        depth: d.bottom - POT_FLOOR,
     };
     let mut pot = sweep(
         &s,
@@ -53,42 +59,100 @@ pub fn pole_pot(t: Tess, d: &Dims) -> Mesh {
     pot
 }
 
-/// The two magnet shells on ±y inside the pot, 3/4 of its length, 0.5 below its centre.
+/// The two magnet shells on ±y inside the pot, 3/4 of its length, 0.5 below its centre. As the
+/// add-on cuts them: the pot's cavity outline, against whose wall they sit, less an ellipse of
+/// radii 1.82 × 1.5, leaving a crescent on each side.
 pub fn magnets(t: Tess, d: &Dims) -> [Mesh; 2] {
-    let (r_in, r_out) = (1.45, POT_RADIUS - POT_WALL - 0.02);
+    let (r_out, flat, ellipse) = (CAVITY_RADIUS, CAVITY_HALF_WIDTH, Vec2::new(1.82, 1.5));
     let centre = d.sub + 0.5 * d.bottom - 0.5;
     let half = 0.375 * d.bottom;
+    let outer_from = (flat / r_out).acos();
+    let inner_from = (flat / ellipse.x).acos();
     let n = (t.n(r_out) / 4).max(3);
-    let quarter = std::f32::consts::FRAC_PI_4;
-    [1.0f32, 5.0].map(|k| {
-        plate(
-            sector(r_in, r_out, k * quarter, (k + 2.0) * quarter, n),
-            vec![],
-            centre - half,
-            centre + half,
-        )
+    let mut crescent: Vec<Vec2> = (0..=n)
+        .map(|i| {
+            let a = outer_from + (PI - 2.0 * outer_from) * i as f32 / n as f32;
+            r_out * Vec2::from_angle(a)
+        })
+        .collect();
+    crescent.extend((0..=n).map(|i| {
+        let a = PI - inner_from - (PI - 2.0 * inner_from) * i as f32 / n as f32;
+        ellipse * Vec2::from_angle(a)
+    }));
+    [0.0, PI].map(|turn| {
+        let rot = Vec2::from_angle(turn);
+        let outline = crescent.iter().map(|p| rot.rotate(*p)).collect();
+        plate(outline, vec![], centre - half, centre + half)
     })
 }
 
-/// Shaft, slotted core and commutator.
+/// Core radius of the armature.
+const CORE_RADIUS: f32 = 1.2;
+
+/// Shaft, rounded core and commutator turned as one solid, and the eight winding packs around the
+/// core (as the add-on: 36° packs every 45° from +x, 1.5 mm thick, 80 % of the core's length,
+/// here 0.1 mm clear of the core so that each is a shell of its own).
 pub fn armature(t: Tess, d: &Dims) -> Mesh {
-    let span = d.bottom + d.sub;
-    let core_mid = 0.3 * span + d.sub + 1.0;
-    let (core_lo, core_hi) = (core_mid - 0.3 * span, core_mid + 0.3 * span);
-    let mut m = t.cylinder(0.15, 0.5, d.top + d.tower_height() - 0.5);
-    m.append(&plate(gear_outline(0.9, 12, 0.3), vec![], core_lo, core_hi));
-    m.append(&t.revolve(
-        &[
-            Vec2::new(0.0, core_hi + 0.3),
-            Vec2::new(0.35, core_hi + 0.3),
-            Vec2::new(0.4, core_hi + 0.35),
-            Vec2::new(0.4, core_hi + 2.25),
-            Vec2::new(0.35, core_hi + 2.3),
-            Vec2::new(0.0, core_hi + 2.3),
-        ],
-        &[],
+    let core_len = 0.6 * (d.bottom + d.sub);
+    let (core_lo, core_hi) = (d.sub + 1.0, d.sub + 1.0 + core_len);
+    let (shaft, comm) = (0.15, 0.4);
+    let (comm_lo, comm_hi) = (core_len + 2.0, core_len + 4.0);
+    let mut profile = vec![Vec2::new(shaft, 0.5), Vec2::new(shaft, core_lo)];
+    profile.extend(round(
+        t,
+        Vec2::new(CORE_RADIUS - 0.5, core_lo + 0.5),
+        0.5,
+        -PI / 2.0,
+        PI / 2.0,
     ));
+    profile.extend(round(
+        t,
+        Vec2::new(CORE_RADIUS - 0.5, core_hi - 0.5),
+        0.5,
+        0.0,
+        PI / 2.0,
+    ));
+    if comm_lo > core_hi {
+        profile.extend([Vec2::new(shaft, core_hi), Vec2::new(shaft, comm_lo)]);
+    }
+    profile.push(Vec2::new(comm, comm_lo.max(core_hi)));
+    // the commutator's far end rounds in with 3.5 mm until it meets the shaft
+    let meets_shaft = ((shaft - (comm - 0.35)) / 0.35).acos();
+    profile.extend(round(
+        t,
+        Vec2::new(comm - 0.35, comm_hi - 0.35),
+        0.35,
+        0.0,
+        meets_shaft,
+    ));
+    profile.push(Vec2::new(shaft, d.top + d.tower_height() - 0.5));
+    let mut m = sweep(
+        &Section::Circle {
+            segments: t.n(CORE_RADIUS),
+        },
+        &profile,
+        &[],
+    );
+    let (mid, half) = (0.5 * (core_lo + core_hi), 0.4 * core_len);
+    let span = 36f32.to_radians();
+    let n = (t.n(1.285) / 10).max(2);
+    for k in 0..8 {
+        let from = (k as f32 * 45.0 - 0.75).to_radians();
+        m.append(&plate(
+            sector(1.21, 1.285, from, from + span, n),
+            vec![],
+            mid - half,
+            mid + half,
+        ));
+    }
     m
+}
+
+/// An arc of radius `r` about `centre` from angle `from` turning counter-clockwise through `span`,
+/// both ends included.
+fn round(t: Tess, centre: Vec2, r: f32, from: f32, span: f32) -> impl Iterator<Item = Vec2> {
+    let n = ((t.n(r) as f32 * span / TAU).ceil() as usize).max(2);
+    (0..=n).map(move |i| centre + r * Vec2::from_angle(from + span * i as f32 / n as f32))
 }
 
 /// Connector on the -y side at the pot/gearbox joint: stacked plates, four pins, the insert

@@ -45,8 +45,10 @@ pub struct Layout {
     pub gears: Vec<Gear>,
     /// Cover-bolt positions in (u, v), in bolt order.
     pub bolts: Vec<Vec2>,
-    /// Height of the cover's top face (where the bolt heads sit) above the cover plane.
+    /// Height of the cover's top face above the cover plane.
     pub cover_thickness: f32,
+    /// Height of a Torx cover bolt's drive face above the cover plane (as the add-on places it).
+    pub bolt_face: f32,
     /// The mounting arm(s): from, to.
     pub arms: Vec<(Vec2, Vec2)>,
     /// Half-width of the arms.
@@ -109,6 +111,7 @@ impl Layout {
                     ],
                     bolts,
                     cover_thickness: 0.5,
+                    bolt_face: 0.5005,
                     arms,
                     arm_width: EYE.0,
                 }
@@ -133,6 +136,7 @@ impl Layout {
                     }],
                     bolts,
                     cover_thickness: 0.4,
+                    bolt_face: 0.6305,
                     arms: vec![(
                         Vec2::new(-2.0 * r, d.top + d.h1),
                         Vec2::new(2.4, d.top + d.h2),

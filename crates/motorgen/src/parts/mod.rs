@@ -16,6 +16,8 @@ use shapes::{Tess, frame};
 
 /// Metres per centimetre.
 const M_PER_CM: f32 = 0.01;
+/// How far a Torx side bolt's drive face lies inside the pole pot's top (as the add-on places it).
+const SIDE_BOLT_SINK: f32 = 0.1771;
 
 /// The parameters in centimetres.
 pub(crate) struct Dims {
@@ -109,7 +111,7 @@ pub fn build(params: &MotorParams, detail: Detail) -> Motor {
     let rotations = bolt_rotations(params, 2 + gb.bolts.len());
     let side_axis = Vec3::Z; // screwed up into the collar, head towards the pot
     for (k, p) in body::SIDE_BOLTS.iter().enumerate() {
-        let head = p.extend(d.top - bolt::head_height(params.bolt_drive));
+        let head = p.extend(d.top - SIDE_BOLT_SINK + bolt::face_inset(params.bolt_drive));
         asm.add_bolt(
             t,
             params,
@@ -121,10 +123,7 @@ pub fn build(params: &MotorParams, detail: Detail) -> Motor {
         );
     }
     for (k, b) in gb.bolts.iter().enumerate() {
-        let head = gb.point(
-            *b,
-            gb.cover_thickness + bolt::head_height(params.bolt_drive),
-        );
+        let head = gb.point(*b, gb.bolt_face - bolt::face_inset(params.bolt_drive));
         asm.add_bolt(
             t,
             params,
