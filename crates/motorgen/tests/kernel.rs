@@ -176,26 +176,62 @@ fn tube_from_a_profile_loop() {
 }
 
 #[test]
-fn extrusion_with_holes_and_twist() {
+fn extrusion_with_holes() {
     let outer = circle(Vec2::ZERO, 0.01, 40, 0.0);
     let hole = circle(Vec2::new(0.004, 0.0), 0.002, 16, 0.0);
-    let e = Extrusion {
+    let m = extrude(&Extrusion {
         outer,
         holes: vec![hole],
         z0: 0.0,
         z1: 0.005,
-        twist: 0.0,
-    };
-    let m = extrude(&e);
+    });
     assert_solid(&m, 1);
     let expect = ngon_prism(40, 0.01, 0.005) - ngon_prism(16, 0.002, 0.005);
     assert!(close(m.signed_volume(), expect, 1e-5));
-    // a twist keeps the shell closed; its triangulated side walls cut inside the polygon, so
-    // the volume shrinks by a few percent at 0.3 rad
-    let twisted = extrude(&Extrusion { twist: 0.3, ..e });
-    assert_solid(&twisted, 1);
-    let v = twisted.signed_volume();
-    assert!(v < expect && v > expect * 0.95, "{v} vs {expect}");
+}
+
+#[test]
+fn stacked_wheel_pinion_and_hub() {
+    // a wheel (r 10, hole 4) on z 0..2, a pinion (r 5, hole 2) on z 1..6: the wheel gives the
+    // outside below 2, the pinion's hole the inside above 1
+    let ring = |r: f32, n: usize| circle(Vec2::ZERO, r, n, 0.0);
+    let stretch = |outline: Vec<Vec2>, z0: f32, z1: f32| Stretch {
+        outline,
+        z0,
+        z1,
+        turn: [0.0, 0.0],
+    };
+    let m = stack(
+        &[
+            stretch(ring(10.0, 48), 0.0, 2.0),
+            stretch(ring(5.0, 24), 2.0, 6.0),
+        ],
+        &[
+            stretch(ring(4.0, 20), 0.0, 1.0),
+            stretch(ring(2.0, 12), 1.0, 6.0),
+        ],
+    );
+    assert_solid(&m, 1);
+    let p = |n, r| ngon_prism(n, r, 1.0);
+    let expect = 2.0 * p(48, 10.0) + 4.0 * p(24, 5.0) - p(20, 4.0) - 5.0 * p(12, 2.0);
+    assert!(
+        close(m.signed_volume(), expect, 1e-5),
+        "{}",
+        m.signed_volume()
+    );
+    // turning the outline keeps the shell closed and, for a circle's polygon, its volume
+    // within the sliver the triangulated side walls cut off
+    let turned = stack(
+        &[Stretch {
+            turn: [0.0, 0.2],
+            ..stretch(ring(10.0, 48), 0.0, 2.0)
+        }],
+        &[stretch(ring(4.0, 20), 0.0, 2.0)],
+    );
+    assert_solid(&turned, 1);
+    let v = turned.signed_volume();
+    let plain = 2.0 * (p(48, 10.0) - p(20, 4.0));
+    assert!(v < plain && v > 0.97 * plain, "{v} vs {plain}");
 }
 
 #[test]

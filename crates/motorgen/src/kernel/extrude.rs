@@ -1,11 +1,10 @@
-//! Straight (optionally twisted) extrusions of planar polygons with holes.
+//! Straight extrusions of planar polygons with holes.
 
 use glam::{Vec2, Vec3};
 
 use super::{cap, mesh::Mesh, sweep::ccw};
 
-/// A polygon with holes, extruded along z from `z0` to `z1`; the top face is turned by `twist`
-/// radians about the z axis (a helical gear's teeth inclination).
+/// A polygon with holes, extruded along z from `z0` to `z1`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Extrusion {
     /// Outer boundary.
@@ -16,24 +15,19 @@ pub struct Extrusion {
     pub z0: f32,
     /// Top.
     pub z1: f32,
-    /// Rotation of the top face relative to the bottom, radians.
-    pub twist: f32,
 }
 
 /// Builds an extrusion as one closed shell facing outwards.
 pub fn extrude(e: &Extrusion) -> Mesh {
     let mut mesh = Mesh::default();
-    let top_turn = Vec2::from_angle(e.twist);
-    let mut layer = |poly: &[Vec2], z: f32, turn: Vec2| -> Vec<u32> {
-        poly.iter()
-            .map(|&p| mesh.vertex(turn.rotate(p).extend(z)))
-            .collect()
+    let mut layer = |poly: &[Vec2], z: f32| -> Vec<u32> {
+        poly.iter().map(|&p| mesh.vertex(p.extend(z))).collect()
     };
     let loops: Vec<Vec<Vec2>> = std::iter::once(ccw(&e.outer))
         .chain(e.holes.iter().map(|h| ccw(h)))
         .collect();
-    let bottoms: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z0, Vec2::X)).collect();
-    let tops: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z1, top_turn)).collect();
+    let bottoms: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z0)).collect();
+    let tops: Vec<Vec<u32>> = loops.iter().map(|l| layer(l, e.z1)).collect();
     for (k, (b, t)) in bottoms.iter().zip(&tops).enumerate() {
         let n = b.len();
         for j in 0..n {

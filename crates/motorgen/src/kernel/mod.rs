@@ -3,11 +3,13 @@
 
 mod extrude;
 mod mesh;
+mod stack;
 mod sweep;
 mod topology;
 
 pub use extrude::{Extrusion, cuboid, extrude};
 pub use mesh::{Aabb, Mesh};
+pub use stack::{Stretch, stack};
 pub use sweep::{Pocket, Section, sweep, sweep_loop};
 pub use topology::{MeshReport, inspect, shell_ids};
 

@@ -11,7 +11,7 @@ use super::body::{BOSS_RADIUS, HOLE_RADIUS};
 use super::shapes::{
     Tess, circle_pair_outline, convex_hull, gear_outline, plane_frame, plate, strip,
 };
-use crate::kernel::{Extrusion, Mesh, extrude};
+use crate::kernel::{Mesh, Stretch, signed_area2, stack};
 use crate::model::PartKind;
 use crate::params::{Extension, MotorParams, MotorType};
 
@@ -240,40 +240,62 @@ impl Layout {
         m.transformed(&self.to_motor)
     }
 
-    /// The inner gear of housing `g`: teeth sheared by the teeth inclination, hub or pinion.
-    /// Returns the mesh (motor frame) and the gear's tip diameter.
+    /// The inner gear of housing `g` as the add-on builds it: a toothed wheel with its pinion
+    /// (lower gear) or hub (upper and type B gears) on one axis, the teeth turned by the teeth
+    /// inclination. Returns the mesh (motor frame) and the gear's tip diameter.
     pub fn inner_gear(&self, t: Tess, p: &MotorParams, g: &Gear) -> (Mesh, f32) {
         let incline = p.teeth_inclination_deg.to_radians().tan();
-        let pocket = g.radius - WALL;
-        let wheel = |r: f32, teeth: usize, w0: f32, w1: f32| {
-            let tooth = (2.3 * 2.0 * r * (std::f32::consts::PI / teeth as f32).sin())
-                .min(0.9 * (pocket - r));
-            let e = Extrusion {
-                outer: gear_outline(r, teeth, tooth),
-                holes: vec![t.circle(Vec2::ZERO, 0.2)],
-                z0: w0,
-                z1: w1,
-                twist: (w1 - w0) * incline / r,
+        // a toothed body: the add-on's gear of `teeth` scaled by `scale`, its ring `thickness`
+        // (unscaled) thick, from w0 to w1
+        let wheel = |teeth: usize, scale: f32, thickness: f32, w0: f32, w1: f32| {
+            let (outline, tip) = gear_outline(t, teeth, scale);
+            // the add-on shifts each tooth's far face sideways by tan(inclination) of the unscaled
+            // height; turned about the axis that is this angle at mid-tooth
+            let mid_tooth = 0.5 * (1.0 + tip / scale);
+            let body = Body {
+                outline,
+                hole: (1.1 - thickness) * scale,
+                w: [w0, w1],
+                twist: incline / mid_tooth,
             };
-            (extrude(&e), 2.0 * (r + tooth))
+            (body, 2.0 * tip)
         };
-        let (mut m, tip) = match g.kind {
+        let round = |radius: f32, hole: f32, w0: f32, w1: f32| Body {
+            outline: t.circle(Vec2::ZERO, radius),
+            hole,
+            w: [w0, w1],
+            twist: 0.0,
+        };
+        let (r, depth) = (g.radius, g.depth);
+        let (bodies, tip) = match g.kind {
             PartKind::LowerGear => {
-                let (mut m, tip) = wheel(0.6 * g.radius, 40, -0.75, -0.3);
-                m.append(&wheel(0.2 * g.radius, 10, -1.35, -0.75).0);
-                (m, tip)
+                let (gear, tip) = wheel(40, 0.6 * r, 0.7, -0.85 * depth, -0.45 * depth);
+                let (pinion, _) = wheel(10, 0.2 * r, 0.3, -0.725 * depth, 0.025 * depth);
+                (vec![gear, pinion], tip)
             }
             PartKind::UpperGear => {
-                let (mut m, tip) = wheel(0.7 * g.radius, 30, -0.75, -0.3);
-                m.append(&t.ring(Vec2::ZERO, 0.3 * g.radius, 0.2, -0.3, -0.1));
-                (m, tip)
+                let (gear, tip) = wheel(30, 0.7 * r, 0.8, -0.6 * depth, 0.2 * depth);
+                let hub = round(
+                    0.25 * r,
+                    0.25 * r - 0.2,
+                    -1.2 * depth - 0.65,
+                    0.65 - 0.2 * depth,
+                );
+                (vec![gear, hub], tip)
             }
             _ => {
-                let (mut m, tip) = wheel(0.75 * g.radius, 30, -1.0, -0.5);
-                m.append(&t.ring(Vec2::ZERO, 0.75, 0.2, -0.5, -0.2));
-                (m, tip)
+                // the add-on turns this gear onto its axis about another axis than type A's:
+                // seen along w its teeth stand half a pitch on and lean the other way
+                let (mut gear, tip) = wheel(30, 0.75 * r, 0.8, -0.975, 0.075);
+                let half_pitch = Vec2::from_angle(std::f32::consts::PI / 30.0);
+                for q in &mut gear.outline {
+                    *q = half_pitch.rotate(*q);
+                }
+                gear.twist = -gear.twist;
+                (vec![gear, round(0.75, 0.4, -1.425, 0.525)], tip)
             }
         };
+        let mut m = coaxial(t, &bodies);
         m.transform(&(self.to_motor * Affine3A::from_translation(g.centre.extend(0.0))));
         (m, tip)
     }
@@ -286,5 +308,100 @@ impl Layout {
     /// The motor-frame direction of the gear axis (out of the cover).
     pub fn axis(&self) -> Vec3 {
         self.to_motor.transform_vector3(Vec3::Z).normalize()
+    }
+}
+
+/// One body of an inner gear on the gear axis: an outline with a round hole from `w[0]` to
+/// `w[1]`, turning by `twist` radians from the one end to the other.
+struct Body {
+    outline: Vec<Vec2>,
+    hole: f32,
+    w: [f32; 2],
+    twist: f32,
+}
+
+impl Body {
+    /// The turn at `w`: none at the far end (the add-on's unshifted tooth face), `-twist` at
+    /// the near one.
+    fn turn(&self, w: f32) -> f32 {
+        self.twist * (w - self.w[1]) / (self.w[1] - self.w[0])
+    }
+}
+
+/// The union of coaxial bodies that together fill one span of the axis, whose outlines nest
+/// (a wider body's outline holds a narrower one's) and whose holes nest: along the axis, the
+/// widest body present gives the outside and the smallest hole the inside.
+fn coaxial(t: Tess, bodies: &[Body]) -> Mesh {
+    let mut cuts: Vec<f32> = bodies.iter().flat_map(|b| b.w).collect();
+    cuts.sort_by(f32::total_cmp);
+    cuts.dedup();
+    let size = |b: &Body| signed_area2(&b.outline).abs();
+    // stretches with the body each comes from
+    let mut outer: Vec<(usize, Stretch)> = vec![];
+    let mut hole: Vec<(usize, Stretch)> = vec![];
+    for span in cuts.windows(2) {
+        let [w0, w1] = [span[0], span[1]];
+        let present = || {
+            bodies
+                .iter()
+                .enumerate()
+                .filter(|(_, b)| b.w[0] <= w0 && b.w[1] >= w1)
+        };
+        let (wide, widest) = present()
+            .max_by(|a, b| size(a.1).total_cmp(&size(b.1)))
+            .expect("the bodies fill the span");
+        let (narrow, _) = present()
+            .min_by(|a, b| a.1.hole.total_cmp(&b.1.hole))
+            .expect("the bodies fill the span");
+        extend(
+            &mut outer,
+            wide,
+            w0,
+            w1,
+            || widest.outline.clone(),
+            |w| widest.turn(w),
+        );
+        // holes within 0.2 mm of each other are taken as one: no hairline step between them
+        let narrow = match hole.last() {
+            Some(&(last, _)) if (bodies[last].hole - bodies[narrow].hole).abs() < 0.02 => last,
+            _ => narrow,
+        };
+        let r = bodies[narrow].hole;
+        extend(
+            &mut hole,
+            narrow,
+            w0,
+            w1,
+            || t.circle(Vec2::ZERO, r),
+            |_| 0.0,
+        );
+    }
+    let strip = |v: Vec<(usize, Stretch)>| v.into_iter().map(|(_, s)| s).collect::<Vec<_>>();
+    stack(&strip(outer), &strip(hole))
+}
+
+/// Lengthens the last stretch when it belongs to body `id`, or starts a new one.
+fn extend(
+    stretches: &mut Vec<(usize, Stretch)>,
+    id: usize,
+    w0: f32,
+    w1: f32,
+    outline: impl FnOnce() -> Vec<Vec2>,
+    turn: impl Fn(f32) -> f32,
+) {
+    match stretches.last_mut() {
+        Some((last, s)) if *last == id => {
+            s.z1 = w1;
+            s.turn[1] = turn(w1);
+        }
+        _ => stretches.push((
+            id,
+            Stretch {
+                outline: outline(),
+                z0: w0,
+                z1: w1,
+                turn: [turn(w0), turn(w1)],
+            },
+        )),
     }
 }

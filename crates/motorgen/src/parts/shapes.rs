@@ -1,5 +1,7 @@
 //! Reusable solids for the part builders, in centimetres along local +z.
 
+use std::f32::consts::{PI, TAU};
+
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
 use crate::kernel::{Detail, Extrusion, Mesh, Pocket, Section, circle, extrude, sweep};
@@ -85,7 +87,6 @@ pub fn plate(outer: Vec<Vec2>, holes: Vec<Vec<Vec2>>, z0: f32, z1: f32) -> Mesh 
         holes,
         z0,
         z1,
-        twist: 0.0,
     })
 }
 
@@ -111,24 +112,47 @@ pub fn sector(r_in: f32, r_out: f32, a0: f32, a1: f32, segments: usize) -> Vec<V
         .collect()
 }
 
-/// The outline of a gear (or slotted armature core): `teeth` trapezoid teeth of height `h` on
-/// a root circle of radius `r`, each with a base of 80% of the pitch and a tip 40% of the base.
-pub fn gear_outline(r: f32, teeth: usize, h: f32) -> Vec<Vec2> {
-    let pitch = std::f32::consts::TAU / teeth as f32;
-    let base = 0.4 * pitch; // half-angle of the base
-    let tip = 0.4 * base * r / (r + h); // half-angle of the tip, 40% of the base width
-    (0..teeth)
+/// The add-on's internal gear (its `normal_gear`) seen along its axis, scaled by `scale`: a ring
+/// of radius 1.1 with `teeth` trapezoid teeth whose bases span a whole pitch on the unit circle,
+/// 2.3 half-pitch chords high, their tips 40 % as wide as their bases. Returns the outline
+/// (counter-clockwise, the first tooth on +x) and the tip radius.
+pub fn gear_outline(t: Tess, teeth: usize, scale: f32) -> (Vec<Vec2>, f32) {
+    const RING: f32 = 1.1;
+    let pitch = TAU / teeth as f32;
+    let (s, c) = (0.5 * pitch).sin_cos();
+    let base = Vec2::new(c, s);
+    let tip = Vec2::new(c + 2.3 * s, 0.4 * s);
+    // where the tooth's side leaves the ring: |base + k (tip - base)| = RING
+    let side = tip - base;
+    let (qa, qb, qc) = (
+        side.dot(side),
+        2.0 * base.dot(side),
+        base.dot(base) - RING * RING,
+    );
+    let k = (-qb + (qb * qb - 4.0 * qa * qc).sqrt()) / (2.0 * qa);
+    let exit = base + k * side;
+    let exit_angle = exit.y.atan2(exit.x);
+    assert!(
+        exit_angle < 0.5 * pitch,
+        "teeth of a ring gear may not overlap"
+    );
+    let gap = pitch - 2.0 * exit_angle;
+    let arc_segments = ((t.n(RING * scale) as f32 * gap / TAU).ceil() as usize).max(1);
+    let mirror = |p: Vec2| Vec2::new(p.x, -p.y);
+    let tooth: Vec<Vec2> =
+        [mirror(exit), mirror(tip), tip, exit]
+            .into_iter()
+            .chain((1..arc_segments).map(|i| {
+                RING * Vec2::from_angle(exit_angle + gap * i as f32 / arc_segments as f32)
+            }))
+            .collect();
+    let outline = (0..teeth)
         .flat_map(|i| {
-            let a = i as f32 * pitch;
-            [
-                (a - base, r),
-                (a - tip, r + h),
-                (a + tip, r + h),
-                (a + base, r),
-            ]
+            let turn = Vec2::from_angle(i as f32 * pitch);
+            tooth.iter().map(move |&p| scale * turn.rotate(p))
         })
-        .map(|(a, rr)| rr * Vec2::from_angle(a))
-        .collect()
+        .collect();
+    (outline, scale * tip.length())
 }
 
 /// The convex hull of points, counter-clockwise (monotone chain).
@@ -177,18 +201,12 @@ pub fn circle_pair_outline(
         .clamp(-1.0, 1.0)
         .acos();
     let arc = |c: Vec2, r: f32, from: f32, span: f32, n: usize| {
-        let k = ((span / std::f32::consts::TAU * n as f32).ceil() as usize).max(2);
+        let k = ((span / TAU * n as f32).ceil() as usize).max(2);
         (0..k).map(move |i| c + r * Vec2::from_angle(from + span * i as f32 / k as f32))
     };
     // circle 1 from the upper intersection round its far side, then circle 2 likewise
-    arc(c1, r1, base + h1, std::f32::consts::TAU - 2.0 * h1, n1)
-        .chain(arc(
-            c2,
-            r2,
-            base + std::f32::consts::PI + h2,
-            std::f32::consts::TAU - 2.0 * h2,
-            n2,
-        ))
+    arc(c1, r1, base + h1, TAU - 2.0 * h1, n1)
+        .chain(arc(c2, r2, base + PI + h2, TAU - 2.0 * h2, n2))
         .collect()
 }
 
