@@ -294,3 +294,34 @@ fn segment_counts_follow_the_tolerance() {
         }
     }
 }
+
+#[test]
+fn csg_union_and_difference_are_closed_with_the_right_volume() {
+    let a = cuboid(Vec3::ZERO, Vec3::splat(2.0));
+    let b = cuboid(Vec3::splat(1.0), Vec3::splat(3.0));
+    let u = csg::union(&[a.clone(), b.clone()]);
+    assert_solid(&u, 1);
+    assert!(close(u.signed_volume(), 8.0 + 8.0 - 1.0, 1e-9));
+    // apart, two shells; a cut through the middle leaves the polygon's volume out
+    let far = cuboid(Vec3::splat(5.0), Vec3::splat(6.0));
+    assert_solid(&csg::union(&[a.clone(), far]), 2);
+    let n = 24;
+    let bore = sweep(
+        &Section::Circle { segments: n },
+        &[
+            Vec2::new(0.0, -1.0),
+            Vec2::new(0.5, -1.0),
+            Vec2::new(0.5, 3.0),
+            Vec2::new(0.0, 3.0),
+        ],
+        &[],
+    )
+    .transformed(&Affine3A::from_translation(Vec3::new(1.0, 1.0, 0.0)));
+    let d = csg::difference(&a, &[bore]);
+    assert_solid(&d, 1);
+    assert!(close(
+        d.signed_volume(),
+        8.0 - ngon_prism(n, 0.5, 2.0),
+        1e-6
+    ));
+}

@@ -1,6 +1,7 @@
-//! The mesh kernel: closed solids built straight from 2D profiles (sweep, revolve, extrude),
-//! never by general booleans, so that every shell is watertight by construction.
+//! The mesh kernel: closed solids built straight from 2D profiles (sweep, revolve, extrude,
+//! stack), watertight by construction, and booleans of such solids where no profile will do.
 
+pub mod csg;
 mod extrude;
 mod mesh;
 mod stack;

@@ -2,12 +2,14 @@
 //! connection, and the gear container's collar and brush tower (centimetres, motor frame).
 
 use std::f32::consts::{PI, TAU};
+use std::sync::OnceLock;
 
 use glam::{Affine3A, Vec2, Vec3};
 
 use super::Dims;
 use super::shapes::{Tess, plate, sector};
-use crate::kernel::{Mesh, Pocket, Section, cuboid, sweep, sweep_loop};
+
+use crate::kernel::{Mesh, Pocket, Section, csg, cuboid, sweep, sweep_loop};
 
 /// Pole-pot radius (the add-on's BOTTOM_DIA / 2).
 const POT_RADIUS: f32 = 2.0;
@@ -155,52 +157,73 @@ fn round(t: Tess, centre: Vec2, r: f32, from: f32, span: f32) -> impl Iterator<I
     (0..=n).map(move |i| centre + r * Vec2::from_angle(from + span * i as f32 / n as f32))
 }
 
-/// Connector on the -y side at the pot/gearbox joint: stacked plates, four pins, the insert
-/// inside the collar and the brush dome with its shaft hole.
+/// The electric connection as the add-on builds it: the connector on the −y side of the pot's
+/// top (three boards, a cap and four pins) and, inside the collar, the brush-plate insert (the
+/// pot outline scaled to 0.8 × 0.95, open below, a Ø13.6 mm hole in its top) with the brush dome
+/// on it. The same in every motor but for its height: built once per detail, then moved.
 pub fn electric_connection(t: Tess, d: &Dims) -> Mesh {
-    let top = d.top;
+    static BUILT: [OnceLock<Mesh>; 3] = [OnceLock::new(), OnceLock::new(), OnceLock::new()];
+    let detail = t.0 as usize;
+    BUILT[detail]
+        .get_or_init(|| connection_at_origin(t))
+        .clone()
+        .transformed(&Affine3A::from_translation(Vec3::Z * d.top))
+}
+
+/// The electric connection with the pot's top at z = 0.
+fn connection_at_origin(t: Tess) -> Mesh {
     let b = |x0: f32, x1: f32, y0: f32, y1: f32, z0: f32, z1: f32| {
         cuboid(Vec3::new(x0, y0, z0), Vec3::new(x1, y1, z1))
     };
-    let mut m = b(0.05, 1.45, -2.2, -2.0, top - 1.6, top + 1.45);
-    m.append(&b(0.15, 1.35, -2.55, -2.2, top - 1.2, top + 0.9));
-    m.append(&b(0.05, 1.45, -2.65, -2.55, top - 1.0, top + 0.6));
-    m.append(&b(0.05, 1.45, -2.65, -2.2, top + 1.2, top + 1.45));
-    for i in 0..4 {
-        let x = 0.2 + 0.3 * i as f32;
-        m.append(&b(
-            x,
-            x + 0.15,
-            -2.9,
-            -2.65,
-            top - 0.7 - 0.15 * i as f32,
-            top + 0.2,
-        ));
-    }
-    let insert = pot_section(t, 1.6, 1.2);
-    m.append(&sweep_loop(
-        &insert,
-        &[
-            Vec2::new(0.0, top - 0.1),
-            Vec2::new(0.0, top + 1.1),
-            Vec2::new(-0.15, top + 1.1),
-            Vec2::new(-0.15, top - 0.1),
-        ],
-    ));
-    let dome = Section::Circle {
-        segments: t.n(0.69),
+    // boards that touch in the add-on overlap by 0.1 mm here, so that they unite
+    let e = 0.01;
+    let mut parts = vec![
+        b(0.05, 1.45, -2.1 - e, -1.9, -1.6, 1.4),
+        b(0.4, 1.1, -2.5 - e, -2.1 + e, -1.6, 1.4),
+        b(0.05, 1.45, -2.6, -2.5 + e, -1.6, 1.4),
+        b(0.05, 1.45, -3.4, -1.9, 1.35, 1.45),
+        b(0.65, 0.85, -3.1, -2.6 + e, 0.3, 1.3),
+        b(0.65, 0.85, -2.85, -2.6 + e, -0.7, 0.3 + e),
+        b(0.15, 0.35, -2.975, -2.6 + e, -0.2, 0.8),
+        b(1.15, 1.35, -2.975, -2.6 + e, -0.2, 0.8),
+    ];
+    let outline = |sx: f32, sy: f32| -> Vec<Vec2> {
+        pot_section(t, POT_RADIUS, POT_HALF_WIDTH)
+            .ring(0.0)
+            .into_iter()
+            .map(|p| p * Vec2::new(sx, sy))
+            .collect()
     };
-    m.append(&sweep_loop(
-        &dome,
+    let insert = csg::difference(
+        &plate(outline(0.8, 0.95), vec![], -0.75, 0.75),
         &[
-            Vec2::new(0.175, top + 0.1),
-            Vec2::new(0.69, top + 0.1),
-            Vec2::new(0.69, top + 0.95),
-            Vec2::new(0.54, top + 1.1),
-            Vec2::new(0.175, top + 1.1),
+            plate(outline(0.7, 0.8), vec![], -0.95, 0.55),
+            // the add-on's hole is Ø13.6 mm, so the dome's rounding grazes its rim; cut
+            // smaller, the hole stays inside the dome's wall and only the dome crosses the plate
+            t.cylinder(0.3, 0.0, 1.0),
         ],
+    );
+    // the dome: Ø13.7 mm, rounded with 3.5 mm at both ends, on the insert, a Ø3.5 mm hole through
+    let (r, hole, round_r, lo, hi) = (0.686, 0.175, 0.35, 0.42, 1.82);
+    let mut profile = vec![Vec2::new(hole, lo)];
+    profile.extend(round(
+        t,
+        Vec2::new(r - round_r, lo + round_r),
+        round_r,
+        -PI / 2.0,
+        PI / 2.0,
     ));
-    m
+    profile.extend(round(
+        t,
+        Vec2::new(r - round_r, hi - round_r),
+        round_r,
+        0.0,
+        PI / 2.0,
+    ));
+    profile.push(Vec2::new(hole, hi));
+    parts.push(sweep_loop(&Section::Circle { segments: t.n(r) }, &profile));
+    parts.push(insert);
+    csg::union(&parts)
 }
 
 /// The gear container's fixed part: the collar (pot outline, hollow from below), the two side
