@@ -29,6 +29,9 @@ pub const SIDE_BOLTS: [Vec2; 2] = [Vec2::new(1.1, 2.0), Vec2::new(-1.1, -2.0)];
 pub const BOSS_RADIUS: f32 = 0.4;
 /// Radius of the holes bolts enter.
 pub const HOLE_RADIUS: f32 = 0.175;
+/// Radius of the side-bolt bosses' holes: the add-on's 2 mm would pass exactly through the
+/// collar boards' inner edges, 0.1 mm less keeps those edges inside the boss.
+const HOLE_RADIUS_SIDE: f32 = 0.19;
 
 /// The pot outline offset outwards by `u`, as a sweep section.
 fn pot_section(t: Tess, radius: f32, half_width: f32) -> Section {
@@ -226,47 +229,67 @@ fn connection_at_origin(t: Tess) -> Mesh {
     csg::union(&parts)
 }
 
-/// The gear container's fixed part: the collar (pot outline, hollow from below), the two side
-/// boards, the side-bolt bosses and the stepped brush tower on the axis.
+/// The gear container's fixed part as the add-on builds it (its "middle" and tower): the collar
+/// on the pot (the pot outline, hollow from below up to 7 mm under its top, a Ø14 mm hole
+/// through the top), a board on each flat, the side-bolt bosses (closed at the top) and the
+/// brush tower of four thin nested tubes, each the add-on's C length high, capped on top. The
+/// same in every motor of a type but for its height: built once per type and detail, then moved.
 pub fn collar_and_tower(t: Tess, d: &Dims) -> Mesh {
-    let top = d.top;
-    let s = pot_section(t, POT_RADIUS, POT_HALF_WIDTH);
-    let cavity = Pocket {
-        outline: s.ring(-0.15),
-        depth: COLLAR_HEIGHT - 0.2,
+    static BUILT: [[OnceLock<Mesh>; 3]; 2] = [
+        [OnceLock::new(), OnceLock::new(), OnceLock::new()],
+        [OnceLock::new(), OnceLock::new(), OnceLock::new()],
+    ];
+    let steps = d.tower_steps();
+    BUILT[d.motor_type as usize][t.0 as usize]
+        .get_or_init(|| collar_and_tower_at_origin(t, steps))
+        .clone()
+        .transformed(&Affine3A::from_translation(Vec3::Z * d.top))
+}
+
+/// The collar and tower with the pot's top at z = 0; `steps` are the tubes' heights.
+fn collar_and_tower_at_origin(t: Tess, steps: [f32; 4]) -> Mesh {
+    let outline = |sx: f32, sy: f32| -> Vec<Vec2> {
+        pot_section(t, POT_RADIUS, POT_HALF_WIDTH)
+            .ring(0.0)
+            .into_iter()
+            .map(|p| p * Vec2::new(sx, sy))
+            .collect()
     };
-    // built open at the top, then turned over onto the pot
-    let turn_over = Affine3A::from_translation(Vec3::Z * (top + COLLAR_HEIGHT))
-        * Affine3A::from_scale(Vec3::new(1.0, 1.0, -1.0));
-    let mut m = sweep(
-        &s,
-        &[Vec2::new(0.0, 0.0), Vec2::new(0.0, COLLAR_HEIGHT)],
-        &[cavity],
-    )
-    .transformed(&turn_over);
-    for sign in [1.0f32, -1.0] {
-        let (x0, x1) = if sign > 0.0 { (1.5, 1.6) } else { (-1.6, -1.5) };
-        m.append(&cuboid(
-            Vec3::new(x0, -1.2, top - 1.0),
-            Vec3::new(x1, 1.2, top + COLLAR_HEIGHT),
+    // the add-on's hole is as wide as the outer tube; 0.1 mm narrower, the tube fills it
+    let collar = csg::difference(
+        &plate(outline(1.0, 1.0), vec![], -0.1, COLLAR_HEIGHT),
+        &[t.cylinder(0.69, 0.65, 2.15)],
+    );
+    let mut parts = vec![collar];
+    // the boards' outer faces and tops lie 10 µm inside the collar's flats and top, so that no
+    // faces of the union are coplanar
+    let e = 0.001;
+    for (x0, x1) in [(-1.5 + e, -1.3), (1.3, 1.5 - e)] {
+        parts.push(cuboid(
+            Vec3::new(x0, -2.0, 0.0),
+            Vec3::new(x1, 1.6, COLLAR_HEIGHT - e),
         ));
     }
     for p in SIDE_BOLTS {
-        m.append(&t.ring(p, BOSS_RADIUS, HOLE_RADIUS, top, top + COLLAR_HEIGHT));
+        let boss = t.revolve(
+            &[
+                Vec2::new(0.0, 1.45),
+                Vec2::new(HOLE_RADIUS_SIDE, 1.45),
+                Vec2::new(HOLE_RADIUS_SIDE, 0.15),
+                Vec2::new(BOSS_RADIUS, 0.15),
+                Vec2::new(BOSS_RADIUS, 1.55),
+                Vec2::new(0.0, 1.55),
+            ],
+            &[],
+        );
+        parts.push(boss.transformed(&Affine3A::from_translation(p.extend(0.0))));
     }
-    let steps = d.tower_steps();
-    let mut profile = vec![
-        Vec2::new(0.0, top + d.tower_height() - 0.3),
-        Vec2::new(0.2, top + d.tower_height() - 0.3),
-    ];
-    let mut z = top + COLLAR_HEIGHT;
-    profile.push(Vec2::new(0.2, z));
-    for (radius, step_top) in [0.7, 0.6, 0.5, 0.4].into_iter().zip(steps) {
-        profile.push(Vec2::new(radius, z));
-        z = top + step_top;
-        profile.push(Vec2::new(radius, z));
+    for (k, (radius, height)) in [0.7, 0.6, 0.5, 0.4].into_iter().zip(steps).enumerate() {
+        parts.push(t.ring(Vec2::ZERO, radius, radius - 0.1 / 3.0, 0.0, height));
+        if k == 3 {
+            parts.push(t.cylinder(radius, height - 0.2, height));
+        }
     }
-    profile.push(Vec2::new(0.0, z));
-    m.append(&t.revolve(&profile, &[]));
-    m
+    let united = csg::union(&parts);
+    csg::difference(&united, &[plate(outline(0.8, 0.9), vec![], -0.8, 0.7)])
 }
