@@ -325,3 +325,26 @@ fn csg_union_and_difference_are_closed_with_the_right_volume() {
         1e-6
     ));
 }
+
+#[test]
+fn regions_extrude_piece_by_piece() {
+    let n = 48;
+    let disc = |c: Vec2, r: f32| Region::polygon(&circle(c, r, n, 0.0));
+    // a ring less a disc across it: two C-shaped pieces, each a closed plate
+    let ring = disc(Vec2::ZERO, 2.0).difference(&disc(Vec2::ZERO, 1.0));
+    let bar = Region::polygon(&[
+        Vec2::new(-3.0, -0.25),
+        Vec2::new(3.0, -0.25),
+        Vec2::new(3.0, 0.25),
+        Vec2::new(-3.0, 0.25),
+    ]);
+    let split = ring.difference(&bar);
+    let m = split.extrude(0.0, 0.5);
+    assert_solid(&m, 2);
+    assert!(close(m.signed_volume(), 0.5 * split.area(), 1e-5));
+    // the ring alone: one plate with a hole
+    let m = ring.extrude(0.0, 1.0);
+    assert_solid(&m, 1);
+    let expect = ngon_prism(n, 2.0, 1.0) - ngon_prism(n, 1.0, 1.0);
+    assert!(close(m.signed_volume(), expect, 1e-5));
+}

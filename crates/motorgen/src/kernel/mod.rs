@@ -4,12 +4,14 @@
 pub mod csg;
 mod extrude;
 mod mesh;
+mod region;
 mod stack;
 mod sweep;
 mod topology;
 
 pub use extrude::{Extrusion, cuboid, extrude};
 pub use mesh::{Aabb, Mesh};
+pub use region::Region;
 pub use stack::{Stretch, stack};
 pub use sweep::{Pocket, Section, sweep, sweep_loop};
 pub use topology::{MeshReport, inspect, shell_ids};

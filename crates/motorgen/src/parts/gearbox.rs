@@ -9,9 +9,9 @@ use glam::{Affine3A, Vec2, Vec3};
 use super::Dims;
 use super::body::{BOSS_RADIUS, HOLE_RADIUS};
 use super::shapes::{
-    Tess, circle_pair_outline, convex_hull, gear_outline, plane_frame, plate, strip,
+    Tess, circle_pair_outline, convex_hull, gear_outline, plane_frame, plate, rect, strip,
 };
-use crate::kernel::{Mesh, Stretch, signed_area2, stack};
+use crate::kernel::{Mesh, Region, Stretch, signed_area2, stack};
 use crate::model::PartKind;
 use crate::params::{Extension, MotorParams, MotorType};
 
@@ -147,9 +147,164 @@ impl Layout {
         }
     }
 
-    /// The gearbox's share of the gear container: housings, boards, bolt bosses (and for type B
-    /// the gear-extension board with its end eyes, whatever the cover's shape).
+    /// The gearbox's share of the gear container: housings, boards and cover-bolt bosses.
     pub fn container(&self, t: Tess, p: &MotorParams, d: &Dims) -> Mesh {
+        match p.motor_type {
+            MotorType::A => self.container_a(t, d),
+            MotorType::B => self.container_b(t, d),
+        }
+    }
+
+    /// Type A's gearbox share of the gear container as the add-on builds it (its `create_up`
+    /// without extension and `create_outer_board`), as plates along the gear axis: the lower
+    /// housing, a cup with a boss behind, its wall opened where the upper housing overlaps it; the
+    /// upper housing with its inner rings; the cover-bolt bosses; the gear board (a slanted board
+    /// from the tower to the lower housing) and the outer board (a board on the pot's flat, its
+    /// slanted continuation to the tower's top, and the web between them). What lies inside the
+    /// collar or the tower is cut away. Plates that meet overlap by 0.1 mm, so that no two share
+    /// an edge.
+    fn container_a(&self, t: Tess, d: &Dims) -> Mesh {
+        const LAP: f32 = 0.01;
+        let (lower, upper) = (&self.gears[0], &self.gears[1]);
+        let (cl, rl, cu, ru) = (lower.centre, lower.radius, upper.centre, upper.radius);
+        let l = 1.5 * lower.depth;
+        let top = d.top;
+        let tower = d.tower_steps()[2];
+        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
+        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
+        let rect = |u0: f32, v0: f32, u1: f32, v1: f32| {
+            Region::polygon(&rect(Vec2::new(u0, v0), Vec2::new(u1, v1)))
+        };
+        // boards end 0.5 mm inside the housings' outer walls; upper parts reach into the lower
+        // housing's wall
+        let board_cut_lower = disc(cl, rl - 0.05);
+        let board_cut_upper = disc(cu, ru - 0.05);
+        let inside_lower = disc(cl, rl - WALL);
+        let (floor, mid) = (-2.0 * l / 3.0, -l / 3.0);
+        let mut plates: Vec<(Region, f32, f32)> = vec![
+            // lower housing: floor, wall, the wall opened by the upper housing, boss behind
+            (disc(cl, rl), floor, floor + WALL),
+            (annulus(cl, rl, rl - WALL), floor + WALL - LAP, mid + LAP),
+            (
+                annulus(cl, rl, rl - WALL).difference(&disc(cu, ru - WALL)),
+                mid,
+                0.0,
+            ),
+            (disc(cl, 0.5), -0.8 * l - 0.5, floor + WALL + LAP),
+            // upper housing: floor with its inner ring, wall, the rings behind, outside the
+            // lower housing's inside
+            (
+                annulus(cu, ru, 0.65).difference(&inside_lower),
+                mid,
+                mid + WALL,
+            ),
+            (
+                annulus(cu, ru, ru - WALL).difference(&inside_lower),
+                mid + WALL - LAP,
+                0.0 - LAP,
+            ),
+            (
+                annulus(cu, 0.8, 0.65).difference(&inside_lower),
+                mid - 1.0,
+                mid + 0.5 * WALL,
+            ),
+            (
+                annulus(cu, 1.45, 1.25).difference(&inside_lower),
+                mid - 0.1,
+                mid + 0.5 * WALL,
+            ),
+            // gear board
+            (
+                rect(
+                    0.3,
+                    top + 1.4 - 0.4 * d.lower_pos,
+                    1.2,
+                    top + 1.4 + 0.4 * d.lower_pos,
+                )
+                .difference(&board_cut_lower),
+                -0.85 - l / 3.0,
+                -0.75 - l / 3.0,
+            ),
+            (
+                Region::polygon(&strip(Vec2::new(0.7, top), cl, 0.05)).difference(&board_cut_lower),
+                -1.875 - l / 3.0,
+                0.375 - l / 3.0,
+            ),
+            // the web of the outer board
+            (
+                Region::polygon(&[
+                    Vec2::new(0.0, top),
+                    Vec2::new(0.0, top + tower),
+                    Vec2::new(-1.4, top + 2.4),
+                    Vec2::new(-1.4, top),
+                ])
+                .difference(&board_cut_lower)
+                .difference(&board_cut_upper),
+                -1.05 - l / 3.0,
+                -0.95 - l / 3.0,
+            ),
+        ];
+        // the outer board on the pot's flat and its slanted part, across the pot's width along
+        // the gear axis, cut by the housings where they reach it
+        let half_width = 0.45 * l;
+        let outer = rect(-1.5, top + 1.4, -1.3, top + 2.4).union(&Region::polygon(&strip(
+            Vec2::new(-1.4, top + 2.4),
+            Vec2::new(0.1, top + tower),
+            0.1,
+        )));
+        let housing_cuts = [
+            (board_cut_lower.clone(), -5.0 * l / 6.0, l / 6.0),
+            (board_cut_upper.clone(), mid, 1.0),
+        ];
+        plates.extend(pieces(
+            &outer,
+            -0.8 - l / 3.0 - half_width,
+            -0.8 - l / 3.0 + half_width,
+            &housing_cuts,
+        ));
+        // cut away: the collar (and the pot below it), the brush tower
+        let axis = -1.0 - l / 3.0;
+        let across = 3.5 - 0.5 * l;
+        let cuts = [
+            (
+                rect(-across, top - 0.1, across, top + 1.5),
+                axis - 0.5 * l,
+                axis + 0.5 * l,
+            ),
+            (
+                rect(-0.71, top, 0.71, top + d.tower_height() + 0.01),
+                axis - 0.71,
+                axis + 0.71,
+            ),
+        ];
+        let mut m = Mesh::default();
+        for (region, w0, w1) in plates {
+            for (piece, p0, p1) in pieces(&region, w0, w1, &cuts) {
+                m.append(&piece.extrude(p0, p1));
+            }
+        }
+        for b in &self.bolts {
+            m.append(
+                &t.revolve(
+                    &[
+                        Vec2::new(0.0, -1.23),
+                        Vec2::new(BOSS_RADIUS, -1.23),
+                        Vec2::new(BOSS_RADIUS, 0.0),
+                        Vec2::new(0.2, 0.0),
+                        Vec2::new(0.2, -1.13),
+                        Vec2::new(0.0, -1.13),
+                    ],
+                    &[],
+                )
+                .transformed(&Affine3A::from_translation(b.extend(0.0))),
+            );
+        }
+        m.transformed(&self.to_motor)
+    }
+
+    /// Type B's gearbox share of the gear container: housing cup, cover-bolt bosses and the
+    /// gear-extension board with its end eyes, whatever the cover's shape.
+    fn container_b(&self, t: Tess, _d: &Dims) -> Mesh {
         let mut m = Mesh::default();
         for g in &self.gears {
             m.append(
@@ -164,32 +319,15 @@ impl Layout {
                 &boss.transformed(&(Affine3A::from_translation(b.extend(0.0)) * hole_at_cover)),
             );
         }
-        match p.motor_type {
-            MotorType::A => {
-                let lower = &self.gears[0];
-                // centre boss the lower gear turns on, and the board joining housing and collar
-                m.append(
-                    &t.cylinder(0.5, -lower.depth + WALL, -1.4)
-                        .transformed(&Affine3A::from_translation(lower.centre.extend(0.0))),
-                );
-                let board = super::shapes::rect(
-                    Vec2::new(-1.4, d.top + 1.4),
-                    Vec2::new(lower.centre.x, lower.centre.y),
-                );
-                m.append(&plate(board, vec![], -0.25, -0.1));
-            }
-            MotorType::B => {
-                let (from, to) = self.arms[0];
-                m.append(&plate(
-                    strip(from, to, self.arm_width),
-                    vec![],
-                    -0.45,
-                    -0.15,
-                ));
-                for e in [from, to] {
-                    m.append(&t.ring(e, 0.6, 0.25, -0.6, 0.0));
-                }
-            }
+        let (from, to) = self.arms[0];
+        m.append(&plate(
+            strip(from, to, self.arm_width),
+            vec![],
+            -0.45,
+            -0.15,
+        ));
+        for e in [from, to] {
+            m.append(&t.ring(e, 0.6, 0.25, -0.6, 0.0));
         }
         m.transformed(&self.to_motor)
     }
@@ -404,4 +542,42 @@ fn extend(
             },
         )),
     }
+}
+
+/// A plate of `region` from `w0` to `w1`, split where `cuts` (a region over a range of w) that
+/// take something from it begin or end, each piece less the cuts over it. Neighbouring pieces
+/// overlap by 0.1 mm.
+fn pieces(
+    region: &Region,
+    w0: f32,
+    w1: f32,
+    cuts: &[(Region, f32, f32)],
+) -> Vec<(Region, f32, f32)> {
+    const LAP: f32 = 0.01;
+    let area = region.area();
+    let cuts: Vec<&(Region, f32, f32)> = cuts
+        .iter()
+        .filter(|c| c.1 < w1 && c.2 > w0 && region.difference(&c.0).area() < area)
+        .collect();
+    // cut ends within 1 µm of the plate's ends or of each other count as one
+    let mut edges = vec![w0, w1];
+    edges.extend(
+        cuts.iter()
+            .flat_map(|c| [c.1, c.2])
+            .filter(|w| *w > w0 + 1e-4 && *w < w1 - 1e-4),
+    );
+    edges.sort_by(f32::total_cmp);
+    edges.dedup_by(|a, b| (*a - *b).abs() < 1e-4);
+    edges
+        .windows(2)
+        .map(|span| {
+            let piece = cuts
+                .iter()
+                .filter(|c| c.1 <= span[0] + 1e-4 && c.2 >= span[1] - 1e-4)
+                .fold(region.clone(), |r, c| r.difference(&c.0));
+            let lap = |w: f32| if w == w0 || w == w1 { 0.0 } else { LAP };
+            (piece, span[0] - lap(span[0]), span[1] + lap(span[1]))
+        })
+        .filter(|(piece, _, _)| piece.area() > 0.0)
+        .collect()
 }

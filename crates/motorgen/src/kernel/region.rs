@@ -1,0 +1,70 @@
+//! Planar regions (polygons with holes) under union and difference, by Clipper2 (through
+//! Manifold's cross-sections), extruded into plates.
+
+use glam::Vec2;
+use manifold_rust::cross_section::CrossSection;
+use manifold_rust::linalg::Vec2 as V2;
+
+use super::{Extrusion, extrude, mesh::Mesh, signed_area2};
+
+/// A planar region: polygons with holes.
+#[derive(Clone, Debug)]
+pub struct Region(CrossSection);
+
+impl Region {
+    /// The inside of a simple polygon (either winding).
+    pub fn polygon(points: &[Vec2]) -> Region {
+        let mut p: Vec<V2> = points
+            .iter()
+            .map(|q| V2::new(q.x as f64, q.y as f64))
+            .collect();
+        if signed_area2(points) < 0.0 {
+            p.reverse();
+        }
+        Region(CrossSection::new(vec![p]))
+    }
+
+    /// The union.
+    pub fn union(&self, other: &Region) -> Region {
+        Region(self.0.union(&other.0))
+    }
+
+    /// This less `other`.
+    pub fn difference(&self, other: &Region) -> Region {
+        Region(self.0.difference(&other.0))
+    }
+
+    /// Area.
+    pub fn area(&self) -> f64 {
+        self.0.area()
+    }
+
+    /// The region extruded from `z0` to `z1`: a closed shell for each of its connected pieces.
+    pub fn extrude(&self, z0: f32, z1: f32) -> Mesh {
+        let mut m = Mesh::default();
+        for piece in self.0.decompose() {
+            let mut loops: Vec<Vec<Vec2>> = piece
+                .to_polygons()
+                .iter()
+                .map(|c| {
+                    c.iter()
+                        .map(|p| Vec2::new(p.x as f32, p.y as f32))
+                        .collect()
+                })
+                .collect();
+            // the outer contour (the only counter-clockwise one) first
+            loops.sort_by(|a, b| signed_area2(b).total_cmp(&signed_area2(a)));
+            let mut loops = loops.into_iter();
+            let Some(outer) = loops.next() else {
+                continue;
+            };
+            m.append(&extrude(&Extrusion {
+                outer,
+                holes: loops.collect(),
+                z0,
+                z1,
+            }));
+        }
+        m
+    }
+}
