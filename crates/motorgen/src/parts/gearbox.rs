@@ -19,9 +19,6 @@ use crate::params::{Extension, MotorParams, MotorType};
 const WALL: f32 = 0.2;
 /// Distance of the cover bolts outside the housing radius.
 const BOLT_OFFSET: f32 = 0.36;
-/// Length of a cover-bolt boss behind the cover plane, and the depth of its hole.
-const BOSS_LENGTH: f32 = 1.4;
-const BOSS_HOLE_DEPTH: f32 = 1.2;
 /// Mounting-eye radii of the cover arms.
 const EYE: (f32, f32) = (0.7, 0.3);
 
@@ -302,32 +299,63 @@ impl Layout {
         m.transformed(&self.to_motor)
     }
 
-    /// Type B's gearbox share of the gear container: housing cup, cover-bolt bosses and the
-    /// gear-extension board with its end eyes, whatever the cover's shape.
-    fn container_b(&self, t: Tess, _d: &Dims) -> Mesh {
+    /// Type B's gearbox share of the gear container as the add-on builds it (its `create_Up1`
+    /// and `create_gear_extension`), as plates along the gear axis: the housing (a 1 mm wall on
+    /// a 3 mm floor with a Ø15 mm hole, the boss ring behind), the gear-extension board from
+    /// the eye at `type_b_height_1` past the housing to the eye at `type_b_height_2`, and the
+    /// cover-bolt bosses. Plates that meet overlap, so that no two share an edge.
+    fn container_b(&self, t: Tess, d: &Dims) -> Mesh {
+        let g = &self.gears[0];
+        let (c, r) = (g.centre, g.radius);
+        let top = d.top;
+        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
+        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
+        let bolt_holes = self
+            .bolts
+            .iter()
+            .fold(disc(self.bolts[0], 0.35), |h, b| h.union(&disc(*b, 0.35)));
+        let (eye_up, eye_low) = (
+            Vec2::new(-2.0 * r + 0.3, top + d.h1 - 0.3),
+            Vec2::new(2.1, top + d.h2 - 0.3),
+        );
+        let board = Region::polygon(&[
+            Vec2::new(-2.0 * r, top + d.h1),
+            Vec2::new(-2.0 * r, c.y - r + 0.1),
+            Vec2::new(1.0, top + 0.8),
+            Vec2::new(2.4, top + d.h2),
+            Vec2::new(-r + 0.1, c.y + r + 0.8),
+        ])
+        .union(&disc(eye_up, 0.6))
+        .union(&disc(eye_low, 0.6))
+        .difference(&disc(c, r - 0.05))
+        .difference(&disc(eye_up, 0.2))
+        .difference(&disc(eye_low, 0.2))
+        .difference(&bolt_holes);
+        let plates = [
+            (annulus(c, r, 0.75).difference(&bolt_holes), -1.35, -1.05),
+            (annulus(c, r, r - 0.1).difference(&bolt_holes), -1.06, 0.15),
+            (annulus(c, 0.9, 0.5), -1.6, -1.2),
+            (board, -0.6, 0.15),
+        ];
         let mut m = Mesh::default();
-        for g in &self.gears {
-            m.append(
-                &t.cup(g.radius, g.depth, WALL)
-                    .transformed(&Affine3A::from_translation(g.centre.extend(-g.depth))),
-            );
+        for (region, w0, w1) in plates {
+            m.append(&region.extrude(w0, w1));
         }
-        let hole_at_cover = Affine3A::from_scale(Vec3::new(1.0, 1.0, -1.0));
         for b in &self.bolts {
-            let boss = t.boss(BOSS_RADIUS, BOSS_LENGTH, HOLE_RADIUS, BOSS_HOLE_DEPTH);
             m.append(
-                &boss.transformed(&(Affine3A::from_translation(b.extend(0.0)) * hole_at_cover)),
+                &t.revolve(
+                    &[
+                        Vec2::new(0.0, -1.1),
+                        Vec2::new(BOSS_RADIUS, -1.1),
+                        Vec2::new(BOSS_RADIUS, 0.15),
+                        Vec2::new(0.2, 0.15),
+                        Vec2::new(0.2, -1.0),
+                        Vec2::new(0.0, -1.0),
+                    ],
+                    &[],
+                )
+                .transformed(&Affine3A::from_translation(b.extend(0.0))),
             );
-        }
-        let (from, to) = self.arms[0];
-        m.append(&plate(
-            strip(from, to, self.arm_width),
-            vec![],
-            -0.45,
-            -0.15,
-        ));
-        for e in [from, to] {
-            m.append(&t.ring(e, 0.6, 0.25, -0.6, 0.0));
         }
         m.transformed(&self.to_motor)
     }

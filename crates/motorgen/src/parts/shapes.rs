@@ -62,18 +62,6 @@ impl Tess {
         )
     }
 
-    /// A cup of radius `r` from z = 0 to `depth`, open at the top, walls and floor `wall` thick.
-    pub fn cup(self, r: f32, depth: f32, wall: f32) -> Mesh {
-        let pocket = Pocket {
-            outline: circle(Vec2::ZERO, r - wall, self.n(r), 0.0),
-            depth: depth - wall,
-        };
-        self.revolve(
-            &[Vec2::new(0.0, 0.0), Vec2::new(r, 0.0), Vec2::new(r, depth)],
-            &[pocket],
-        )
-    }
-
     /// A flat ring (annulus) from `z0` to `z1`.
     pub fn ring(self, c: Vec2, r_out: f32, r_in: f32, z0: f32, z1: f32) -> Mesh {
         plate(self.circle(c, r_out), vec![self.circle(c, r_in)], z0, z1)
