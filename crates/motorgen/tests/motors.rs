@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use motorgen::kernel::inspect;
 use motorgen::params::{MotorType, Value};
 use motorgen::{Detail, Motor, MotorParams, ParamSpace, PartKind, build};
@@ -469,18 +469,32 @@ fn unused_parameters_do_not_change_the_motor() {
 }
 
 #[test]
-fn circle_union_cover_is_one_shell() {
-    let m = build(
-        &params(&[("extension_a", Value::Text("none".into()))]),
-        Detail::Normal,
-    );
-    let cover = &m
-        .parts
-        .iter()
-        .find(|p| p.kind == PartKind::Cover)
-        .unwrap()
-        .mesh;
-    // union plate + hub ring + hub + 4 lugs, none of them needing a boolean
-    assert_eq!(inspect(cover).shells, 1 + 2 + 4);
-    let _ = Vec2::ZERO;
+fn covers_span_the_addons_depth_along_the_gear_axis() {
+    // type A covers reach 3 mm behind the cover plane (the upper gear's inner ring) and out to
+    // the lower gear's hub (10 mm), the eye of extension 1 (15 mm) or the eyes of extension 2
+    // (25 mm), as the add-on's
+    for (ext, reach) in [("none", 0.010), ("type1", 0.015), ("type2", 0.025)] {
+        let m = build(
+            &params(&[("extension_a", Value::Text(ext.into()))]),
+            Detail::Coarse,
+        );
+        let gear = &m.attributes.gears[0];
+        let cover = &m
+            .parts
+            .iter()
+            .find(|p| p.kind == PartKind::Cover)
+            .unwrap()
+            .mesh;
+        let along: Vec<f32> = cover
+            .positions
+            .iter()
+            .map(|v| (*v - gear.centre).dot(gear.axis))
+            .collect();
+        let (lo, hi) = along
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(lo, hi), a| (lo.min(*a), hi.max(*a)));
+        assert!((lo + 0.003).abs() < 1e-5, "{ext}: {lo}");
+        assert!((hi - reach).abs() < 1e-5, "{ext}: {hi}");
+        assert!(inspect(cover).is_valid_solid(), "{ext}");
+    }
 }

@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{cap, mesh::Mesh, sweep::ccw};
+use super::{cap_triangles, mesh::Mesh, sweep::ccw};
 
 /// A polygon with holes, extruded along z from `z0` to `z1`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -39,9 +39,17 @@ pub fn extrude(e: &Extrusion) -> Mesh {
             }
         }
     }
-    cap(&mut mesh, &bottoms[0], &inner_loops(&bottoms), false);
-    cap(&mut mesh, &tops[0], &inner_loops(&tops), true);
-    mesh.orient_outward()
+    // one triangulation for both caps: the top's vertices follow the bottom's, one layer on
+    let layer = mesh.positions.len() as u32 / 2;
+    let bottom = cap_triangles(&mesh, &bottoms[0], &inner_loops(&bottoms));
+    for t in bottom {
+        mesh.triangles.push([t[0], t[2], t[1]]);
+        mesh.triangles.push(t.map(|v| v + layer));
+    }
+    if e.z1 < e.z0 {
+        mesh.flip();
+    }
+    mesh
 }
 
 fn inner_loops(rings: &[Vec<u32>]) -> Vec<&[u32]> {

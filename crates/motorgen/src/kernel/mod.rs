@@ -70,6 +70,15 @@ pub fn signed_area2(poly: &[Vec2]) -> f32 {
 /// xy) and adds the triangles wound counter-clockwise seen from +z when `up`, clockwise
 /// otherwise. Every loop edge is used by exactly one cap triangle.
 fn cap(mesh: &mut Mesh, outer: &[u32], holes: &[&[u32]], up: bool) {
+    let tris = cap_triangles(mesh, outer, holes);
+    mesh.triangles.extend(
+        tris.into_iter()
+            .map(|t| if up { t } else { [t[0], t[2], t[1]] }),
+    );
+}
+
+/// The triangles of a cap over `outer` and `holes`, counter-clockwise seen from +z.
+fn cap_triangles(mesh: &Mesh, outer: &[u32], holes: &[&[u32]]) -> Vec<[u32; 3]> {
     let loops = std::iter::once(outer).chain(holes.iter().copied());
     let order: Vec<u32> = loops.clone().flatten().copied().collect();
     let mut hole_starts = Vec::with_capacity(holes.len());
@@ -89,16 +98,19 @@ fn cap(mesh: &mut Mesh, outer: &[u32], holes: &[&[u32]], up: bool) {
     earcut::Earcut::new().earcut_slice(&xy, &hole_starts, &mut local);
     // Delaunay flips remove the slivers ear clipping leaves between (near) collinear vertices.
     earcut::refine(&mut local, &xy);
-    for t in local.chunks_exact(3) {
-        let mut tri = [
-            order[t[0] as usize],
-            order[t[1] as usize],
-            order[t[2] as usize],
-        ];
-        let [a, b, c] = tri.map(|i| mesh.positions[i as usize].truncate());
-        if ((b - a).perp_dot(c - a) > 0.0) != up {
-            tri.swap(1, 2);
-        }
-        mesh.triangles.push(tri);
-    }
+    local
+        .chunks_exact(3)
+        .map(|t| {
+            let mut tri = [
+                order[t[0] as usize],
+                order[t[1] as usize],
+                order[t[2] as usize],
+            ];
+            let [a, b, c] = tri.map(|i| mesh.positions[i as usize].truncate());
+            if (b - a).perp_dot(c - a) < 0.0 {
+                tri.swap(1, 2);
+            }
+            tri
+        })
+        .collect()
 }

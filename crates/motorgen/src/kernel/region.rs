@@ -39,10 +39,25 @@ impl Region {
         self.0.area()
     }
 
+    /// Whether the bounding boxes of the two regions overlap (a quick test before a boolean).
+    pub fn may_meet(&self, other: &Region) -> bool {
+        let (a, b) = (self.0.bounds(), other.0.bounds());
+        a.min.x < b.max.x && b.min.x < a.max.x && a.min.y < b.max.y && b.min.y < a.max.y
+    }
+
     /// The region extruded from `z0` to `z1`: a closed shell for each of its connected pieces.
+    /// Corners closer than a ten-thousandth of the region's size to their neighbours' line
+    /// and pieces smaller than a millionth of its size squared (slivers a boolean leaves) are
+    /// dropped first, so that no face degenerates.
     pub fn extrude(&self, z0: f32, z1: f32) -> Mesh {
+        let b = self.0.bounds();
+        let size = (b.max.x - b.min.x).max(b.max.y - b.min.y);
         let mut m = Mesh::default();
-        for piece in self.0.decompose() {
+        for piece in self.0.simplify(1e-4 * size).decompose() {
+            // a sliver a boolean leaves (a millionth of the size squared) is no plate
+            if piece.area() < 1e-6 * size * size {
+                continue;
+            }
             let mut loops: Vec<Vec<Vec2>> = piece
                 .to_polygons()
                 .iter()
@@ -58,12 +73,15 @@ impl Region {
             let Some(outer) = loops.next() else {
                 continue;
             };
-            m.append(&extrude(&Extrusion {
+            let mut plate = extrude(&Extrusion {
                 outer,
                 holes: loops.collect(),
                 z0,
                 z1,
-            }));
+            });
+            // a corner a hair off a long edge leaves a needle in the cap: flip it away
+            plate.flip_needles((1e-6 * size) as f32);
+            m.append(&plate);
         }
         m
     }

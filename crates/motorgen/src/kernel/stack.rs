@@ -38,10 +38,91 @@ pub fn stack(outer: &[Stretch], hole: &[Stretch]) -> Mesh {
         .map(|r| r.1.as_slice())
         .into_iter()
         .collect();
-    cap(&mut mesh, &outer_rings[0].0, &bottom_hole, false);
+    end_cap(&mut mesh, &outer_rings[0].0, &bottom_hole, false);
     let top = &outer_rings[outer_rings.len() - 1].1;
-    cap(&mut mesh, top, &top_hole, true);
-    mesh.orient_outward()
+    end_cap(&mut mesh, top, &top_hole, true);
+    // outward by construction: walls round counter-clockwise outlines, caps wound to face out
+    mesh
+}
+
+/// A cap over `outer` less `hole` (none or one).
+fn end_cap(mesh: &mut Mesh, outer: &[u32], hole: &[&[u32]], up: bool) {
+    match hole {
+        [inner] => ring_cap(mesh, outer, inner, up),
+        _ => cap(mesh, outer, hole, up),
+    }
+}
+
+/// The cap between two counter-clockwise loops round the z axis, each seen from the axis as
+/// one turn (star-shaped), zipped by angle: the outlines of a stack always are.
+fn ring_cap(mesh: &mut Mesh, outer: &[u32], inner: &[u32], up: bool) {
+    let angle = |v: u32| {
+        let p = mesh.positions[v as usize];
+        p.y.atan2(p.x)
+    };
+    // each loop's angles from the outer loop's first corner on, increasing
+    let unwrap = |lp: &[u32], start: usize, from: f32| -> Vec<f32> {
+        let mut last = from - std::f32::consts::PI;
+        (0..=lp.len())
+            .map(|k| {
+                let mut a = angle(lp[(start + k) % lp.len()]);
+                while a < last {
+                    a += std::f32::consts::TAU;
+                }
+                last = a;
+                a
+            })
+            .collect()
+    };
+    let a0 = angle(outer[0]);
+    let j0 = (0..inner.len())
+        .min_by(|&x, &y| {
+            let d = |j: usize| {
+                let d = (angle(inner[j]) - a0).rem_euclid(std::f32::consts::TAU);
+                d.min(std::f32::consts::TAU - d)
+            };
+            d(x).total_cmp(&d(y))
+        })
+        .expect("a loop has corners");
+    let ao = unwrap(outer, 0, a0);
+    let ai = unwrap(inner, j0, a0);
+    let (n, m) = (outer.len(), inner.len());
+    let o = |i: usize| outer[i % n];
+    let h = |j: usize| inner[(j0 + j) % m];
+    // a triangle's height over its longest edge, in the plane
+    let height = |t: [u32; 3]| {
+        let [a, b, c] = t.map(|v| mesh.positions[v as usize].truncate());
+        let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
+        (b - a).perp_dot(c - a).abs() / longest
+    };
+    let (mut i, mut j) = (0, 0);
+    while i < n || j < m {
+        let along_outer = [o(i), o(i + 1), h(j)];
+        let along_inner = [o(i), h(j + 1), h(j)];
+        // by angle, unless that triangle is a sliver (a tooth's flank in line with a hole's
+        // corner) and the other is not
+        let mut outer_first = j == m || (i < n && ao[i + 1] <= ai[j + 1]);
+        if i < n && j < m {
+            // ten times what the kernel calls degenerate, in centimetres
+            let sliver = |t: [u32; 3]| height(t) < 1e-5;
+            if sliver(if outer_first {
+                along_outer
+            } else {
+                along_inner
+            }) {
+                outer_first = !outer_first;
+            }
+        }
+        let tri = if outer_first {
+            i += 1;
+            along_outer
+        } else {
+            j += 1;
+            along_inner
+        };
+        mesh.triangles
+            .push(if up { tri } else { [tri[0], tri[2], tri[1]] });
+    }
 }
 
 /// The side walls of one boundary and the steps between its stretches; returns each stretch's
@@ -80,9 +161,9 @@ fn walls(mesh: &mut Mesh, stretches: &[Stretch], is_hole: bool) -> Vec<(Vec<u32>
         // turns that round
         let up = below_bigger != is_hole;
         if below_bigger {
-            cap(mesh, below, &[above], up);
+            ring_cap(mesh, below, above, up);
         } else {
-            cap(mesh, above, &[below], up);
+            ring_cap(mesh, above, below, up);
         }
     }
     rings

@@ -8,9 +8,7 @@ use glam::{Affine3A, Vec2, Vec3};
 
 use super::Dims;
 use super::body::{BOSS_RADIUS, HOLE_RADIUS};
-use super::shapes::{
-    Tess, circle_pair_outline, convex_hull, gear_outline, plane_frame, plate, rect, strip,
-};
+use super::shapes::{Tess, convex_hull, gear_outline, plane_frame, plate, rect, strip};
 use crate::kernel::{Mesh, Region, Stretch, signed_area2, stack};
 use crate::model::PartKind;
 use crate::params::{Extension, MotorParams, MotorType};
@@ -365,28 +363,7 @@ impl Layout {
         let top = self.cover_thickness;
         let mut m = Mesh::default();
         match p.motor_type {
-            MotorType::A => {
-                let (l, u) = (&self.gears[0], &self.gears[1]);
-                let outline = circle_pair_outline(
-                    l.centre,
-                    l.radius,
-                    t.n(l.radius),
-                    u.centre,
-                    u.radius,
-                    t.n(u.radius),
-                );
-                m.append(&plate(outline, vec![], 0.0, top));
-                // output hub on the upper gear
-                m.append(&t.ring(u.centre, 1.3, 0.75, top, top + 0.15));
-                m.append(
-                    &t.cylinder(0.7, top, top + 0.8)
-                        .transformed(&Affine3A::from_translation(u.centre.extend(0.0))),
-                );
-                for &(from, to) in &self.arms {
-                    m.append(&plate(strip(from, to, self.arm_width), vec![], 0.0, top));
-                    m.append(&t.ring(to, EYE.0, EYE.1, -1.1, top));
-                }
-            }
+            MotorType::A => return self.cover_a(t, p.extension()),
             MotorType::B => {
                 let g = &self.gears[0];
                 m.append(&plate(t.circle(g.centre, g.radius), vec![], 0.0, top));
@@ -402,6 +379,60 @@ impl Layout {
         }
         for b in &self.bolts {
             m.append(&t.ring(*b, BOSS_RADIUS, HOLE_RADIUS, 0.0, top));
+        }
+        m.transformed(&self.to_motor)
+    }
+
+    /// Type A's cover as the add-on builds it (its `create_up` with extension): over the lower
+    /// gear a disc with an annular groove in its face and a hub, over the upper gear a ring
+    /// with two inner rings, thin rings round the bolts, and for the extensions the wedge
+    /// plate between two side boards that deepen towards the eye(s) at its end.
+    fn cover_a(&self, t: Tess, extension: Extension) -> Mesh {
+        const LAP: f32 = 0.01;
+        let (lower, upper) = (&self.gears[0], &self.gears[1]);
+        let (cl, rl, cu, ru) = (lower.centre, lower.radius, upper.centre, upper.radius);
+        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
+        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
+        let groove = annulus(cl, rl - 0.5, rl - 1.2);
+        let mut plates = vec![
+            (disc(cl, rl), -0.1, 0.05 + LAP),
+            (disc(cl, rl).difference(&groove), 0.05, 0.4),
+            (disc(cl, 0.5), 0.15, 1.0),
+            (annulus(cu, ru, 0.8), -0.1, 0.4),
+            // (the add-on's own booleans leave the inner ring and the bolt rings solid)
+            (disc(cu, 0.8), -0.3, 0.7),
+            (annulus(cu, 1.45, 1.25), -0.2, 0.7),
+        ];
+        for b in &self.bolts {
+            plates.push((disc(*b, BOSS_RADIUS), -0.1, 0.2));
+        }
+        let mut m = Mesh::default();
+        if let Some(zone) = ExtensionZone::new(extension, cu, ru) {
+            plates.push((
+                Region::polygon(&zone.bottom_board()).difference(&disc(cl, rl - 0.5)),
+                -0.1,
+                0.2,
+            ));
+            let eye_length = if zone.two_eyes { 2.6 } else { 1.6 };
+            for (centre, r) in zone.eyes() {
+                plates.push((
+                    annulus(centre, r, (r - 0.5).max(0.1)),
+                    -0.1,
+                    eye_length - 0.1,
+                ));
+            }
+            for (outline, depth) in zone.side_boards() {
+                let back: Vec<f32> = depth.iter().map(|d| d - 0.1).collect();
+                m.append(&wedge(&outline, &vec![-0.1; outline.len()], &back));
+            }
+            let (outline, depth) = zone.back_plate();
+            let front: Vec<f32> = depth.iter().map(|d| d - 0.2).collect();
+            let back: Vec<f32> = depth.iter().map(|d| d - 0.1).collect();
+            m.append(&wedge(&outline, &front, &back));
+            plates.push((Region::polygon(&zone.cross_board()), -0.1, 0.95));
+        }
+        for (region, w0, w1) in plates {
+            m.append(&region.extrude(w0, w1));
         }
         m.transformed(&self.to_motor)
     }
@@ -585,7 +616,9 @@ fn pieces(
     let area = region.area();
     let cuts: Vec<&(Region, f32, f32)> = cuts
         .iter()
-        .filter(|c| c.1 < w1 && c.2 > w0 && region.difference(&c.0).area() < area)
+        .filter(|c| {
+            c.1 < w1 && c.2 > w0 && region.may_meet(&c.0) && region.difference(&c.0).area() < area
+        })
         .collect();
     // cut ends within 1 µm of the plate's ends or of each other count as one
     let mut edges = vec![w0, w1];
@@ -608,4 +641,134 @@ fn pieces(
         })
         .filter(|(piece, _, _)| piece.area() > 0.0)
         .collect()
+}
+
+/// The add-on's extension zone of a type A cover (its `create_extension_zone`), in the gearbox
+/// plane: the polylines of its two side boards from beside the upper gear down to the eye(s).
+struct ExtensionZone {
+    /// Side board 1: p1, p3, p5; side board 2: p2, p4, p6; where the back plate begins on
+    /// board 1 (p3h).
+    p: [Vec2; 7],
+    /// The boards' thickness across.
+    thickness: f32,
+    /// The upper gear's radius (the bottom board's top edge follows it).
+    ru: f32,
+    /// Two eyes (extension 2) or one.
+    two_eyes: bool,
+}
+
+impl ExtensionZone {
+    fn new(extension: Extension, cu: Vec2, ru: f32) -> Option<ExtensionZone> {
+        // angles (degrees) and lengths of the add-on's construction
+        let (a1, a11, a4, a5, s2, s5, two_eyes) = match extension {
+            Extension::Type1 => (30.0f32, 30.0f32, 25.0f32, 25.0f32, 5.5, 5.0, false),
+            Extension::Type2 => (20.0, 30.0, 0.0, 5.0, 4.5, 4.5, true),
+            Extension::None => return None,
+        };
+        let (s1, s4, s6) = (1.45, 4.5, 3.0);
+        let dir = |deg: f32| Vec2::from_angle(deg.to_radians());
+        let down = |deg: f32| {
+            let (s, c) = deg.to_radians().sin_cos();
+            Vec2::new(s, -c)
+        };
+        let p1 = cu + s1 * dir(a1);
+        let p2 = cu - s1 * dir(a11);
+        let p3 = p1 + s2 * down(a1);
+        let p4 = p2 + s4 * down(a5);
+        let p5 = p3 + s5 * Vec2::new(-a4.to_radians().sin(), -a4.to_radians().cos());
+        let p6 = p4 - Vec2::new(0.0, s6);
+        let p3h = if two_eyes {
+            p3 - Vec2::new(0.0, 1.5)
+        } else {
+            p3 - 1.5 * Vec2::new(25f32.to_radians().sin(), 25f32.to_radians().cos())
+        };
+        let mut p = [p1, p3, p5, p2, p4, p6, p3h];
+        if two_eyes {
+            // the add-on mirrors this zone across u = 0 and moves it 2.32 cm along u
+            for q in &mut p {
+                q.x = 2.32 - q.x;
+            }
+        }
+        Some(ExtensionZone {
+            p,
+            thickness: 35f32.to_radians().cos() * 0.2,
+            ru,
+            two_eyes,
+        })
+    }
+
+    /// The two side boards: outline and each corner's depth along the gear axis.
+    fn side_boards(&self) -> [(Vec<Vec2>, Vec<f32>); 2] {
+        let [p1, p3, p5, p2, p4, p6, _] = self.p;
+        let t = Vec2::new(self.thickness, 0.0);
+        let depth = vec![0.5, 0.5, 1.1, 1.5, 1.5, 1.1];
+        [
+            (vec![p1, p1 - t, p3 - t, p5 - t, p5, p3], depth.clone()),
+            (vec![p2, p2 + t, p4 + t, p6 + t, p6, p4], depth),
+        ]
+    }
+
+    /// The bottom board between the side boards (reaching half into them).
+    fn bottom_board(&self) -> Vec<Vec2> {
+        let [p1, p3, p5, p2, p4, p6, _] = self.p;
+        let t = Vec2::new(self.thickness, 0.0);
+        let a1 = (p3 - p1).normalize();
+        vec![
+            p1 + t - Vec2::new(0.0, 0.4 * self.ru * a1.x.abs()),
+            p3 - 1.5 * t,
+            p5 - 1.5 * t,
+            p6 + 0.5 * t,
+            p4 + 0.5 * t,
+            p2 - Vec2::new(0.0, self.ru / 3.0),
+        ]
+    }
+
+    /// The back plate between the side boards, from p3h and p4 down to the eye end, 1 mm thick
+    /// at the boards' back (the add-on leaves it a bare face): outline and each corner's depth.
+    fn back_plate(&self) -> (Vec<Vec2>, Vec<f32>) {
+        let [_, _, p5, _, p4, p6, p3h] = self.p;
+        let t = Vec2::new(self.thickness, 0.0);
+        // reaching half into the side boards, as the bottom board does
+        (
+            vec![p3h - 1.5 * t, p5 - 1.5 * t, p6 + 0.5 * t, p4 + 0.5 * t],
+            vec![1.1, 1.5, 1.5, 1.1],
+        )
+    }
+
+    /// The cross board from p3h to p4 across the zone (a bare face in the add-on, here 1 mm
+    /// thick), as deep as the back plate's top.
+    fn cross_board(&self) -> Vec<Vec2> {
+        let [_, _, _, _, p4, _, p3h] = self.p;
+        strip(p3h - Vec2::new(self.thickness, 0.0), p4, 0.05)
+    }
+
+    /// The eyes: centre and outer radius.
+    fn eyes(&self) -> Vec<(Vec2, f32)> {
+        let [_, _, p5, _, _, p6, _] = self.p;
+        let span = p5.distance(p6);
+        if self.two_eyes {
+            vec![
+                (p5 + (p6 - p5) * (5.0 / 6.0), span / 6.0),
+                (p5 + (p6 - p5) / 6.0, span / 6.0),
+            ]
+        } else {
+            vec![(0.5 * (p5 + p6), 0.5 * span)]
+        }
+    }
+}
+
+/// A plate whose depth varies: each corner of `outline` from `front` to `back` along w, front
+/// and back made of the same triangles (so they may bend). One closed shell.
+fn wedge(outline: &[Vec2], front: &[f32], back: &[f32]) -> Mesh {
+    // an extrusion from 0 to 1 whose corners then move to their depths (it keeps the corners,
+    // perhaps in reverse order)
+    let mut m = plate(outline.to_vec(), vec![], 0.0, 1.0);
+    for p in &mut m.positions {
+        let k = outline
+            .iter()
+            .position(|q| q.distance(p.truncate()) < 1e-6)
+            .expect("every corner is an outline corner");
+        p.z = if p.z > 0.5 { back[k] } else { front[k] };
+    }
+    m
 }

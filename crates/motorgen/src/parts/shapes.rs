@@ -1,6 +1,6 @@
 //! Reusable solids for the part builders, in centimetres along local +z.
 
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::TAU;
 
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
@@ -166,36 +166,6 @@ pub fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
         hull.pop();
     }
     hull
-}
-
-/// The outline of the union of two overlapping circles (neither inside the other),
-/// counter-clockwise; `n1`, `n2` are the full-circle vertex counts.
-pub fn circle_pair_outline(
-    c1: Vec2,
-    r1: f32,
-    n1: usize,
-    c2: Vec2,
-    r2: f32,
-    n2: usize,
-) -> Vec<Vec2> {
-    let d = c2 - c1;
-    let dist = d.length();
-    let base = d.y.atan2(d.x);
-    // half-angles of the arcs inside the other circle, at each centre
-    let h1 = ((dist * dist + r1 * r1 - r2 * r2) / (2.0 * dist * r1))
-        .clamp(-1.0, 1.0)
-        .acos();
-    let h2 = ((dist * dist + r2 * r2 - r1 * r1) / (2.0 * dist * r2))
-        .clamp(-1.0, 1.0)
-        .acos();
-    let arc = |c: Vec2, r: f32, from: f32, span: f32, n: usize| {
-        let k = ((span / TAU * n as f32).ceil() as usize).max(2);
-        (0..k).map(move |i| c + r * Vec2::from_angle(from + span * i as f32 / k as f32))
-    };
-    // circle 1 from the upper intersection round its far side, then circle 2 likewise
-    arc(c1, r1, base + h1, TAU - 2.0 * h1, n1)
-        .chain(arc(c2, r2, base + PI + h2, TAU - 2.0 * h2, n2))
-        .collect()
 }
 
 /// The transform taking local +z to `axis` (by the shortest-arc rotation) and the local origin
