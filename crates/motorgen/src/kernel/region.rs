@@ -53,20 +53,30 @@ impl Region {
         let b = self.0.bounds();
         let size = (b.max.x - b.min.x).max(b.max.y - b.min.y);
         let mut m = Mesh::default();
-        for piece in self.0.simplify(1e-4 * size).decompose() {
-            // a sliver a boolean leaves (a millionth of the size squared) is no plate
-            if piece.area() < 1e-6 * size * size {
-                continue;
-            }
-            let mut loops: Vec<Vec<Vec2>> = piece
-                .to_polygons()
+        let simple = self.0.simplify(1e-4 * size);
+        let contours = |cs: &CrossSection| -> Vec<Vec<Vec2>> {
+            cs.to_polygons()
                 .iter()
                 .map(|c| {
                     c.iter()
                         .map(|p| Vec2::new(p.x as f32, p.y as f32))
                         .collect()
                 })
-                .collect();
+                .collect()
+        };
+        // one outer contour: one piece, without asking Clipper2 to split it
+        let all = contours(&simple);
+        let pieces = if all.iter().filter(|l| signed_area2(l) > 0.0).count() == 1 {
+            vec![all]
+        } else {
+            simple.decompose().iter().map(contours).collect()
+        };
+        for mut loops in pieces {
+            // a sliver a boolean leaves (a millionth of the size squared) is no plate
+            let area: f32 = 0.5 * loops.iter().map(|l| signed_area2(l)).sum::<f32>();
+            if (area as f64) < 1e-6 * size * size {
+                continue;
+            }
             // the outer contour (the only counter-clockwise one) first
             loops.sort_by(|a, b| signed_area2(b).total_cmp(&signed_area2(a)));
             let mut loops = loops.into_iter();

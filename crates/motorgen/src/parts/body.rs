@@ -27,8 +27,6 @@ pub const COLLAR_HEIGHT: f32 = 1.4;
 pub const SIDE_BOLTS: [Vec2; 2] = [Vec2::new(1.1, 2.0), Vec2::new(-1.1, -2.0)];
 /// Bolt-boss radius (BOLT_RAD).
 pub const BOSS_RADIUS: f32 = 0.4;
-/// Radius of the holes bolts enter.
-pub const HOLE_RADIUS: f32 = 0.175;
 /// Radius of the side-bolt bosses' holes: the add-on's 2 mm would pass exactly through the
 /// collar boards' inner edges, 0.1 mm less keeps those edges inside the boss.
 const HOLE_RADIUS_SIDE: f32 = 0.19;

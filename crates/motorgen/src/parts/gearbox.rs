@@ -1,14 +1,14 @@
-//! The parts that turn with the gearbox: gear housings, boards and cover-bolt bosses (of the
-//! gear container), the cover with its extension arm, the inner gears, and where the cover
-//! bolts go. Built in the gearbox plane frame (u, v, w) in centimetres: v is the motor's z, u
-//! the horizontal direction in the cover plane, w the gear axis pointing out of the cover, and
-//! the cover plane at w = 0.
+//! The parts that turn with the gearbox, as the add-on builds them: the gear container's
+//! housings, boards and cover-bolt bosses, the cover with its extension, the inner gears, and
+//! where the cover bolts go. Built in the gearbox plane frame (u, v, w) in centimetres: v is
+//! the motor's z, u the horizontal direction in the cover plane, w the gear axis pointing out
+//! of the cover, and the cover plane at w = 0.
 
 use glam::{Affine3A, Vec2, Vec3};
 
 use super::Dims;
-use super::body::{BOSS_RADIUS, HOLE_RADIUS};
-use super::shapes::{Tess, convex_hull, gear_outline, plane_frame, plate, rect, strip};
+use super::body::BOSS_RADIUS;
+use super::shapes::{Tess, gear_outline, plane_frame, plate, rect, strip};
 use crate::kernel::{Mesh, Region, Stretch, signed_area2, stack};
 use crate::model::PartKind;
 use crate::params::{Extension, MotorParams, MotorType};
@@ -17,8 +17,6 @@ use crate::params::{Extension, MotorParams, MotorType};
 const WALL: f32 = 0.2;
 /// Distance of the cover bolts outside the housing radius.
 const BOLT_OFFSET: f32 = 0.36;
-/// Mounting-eye radii of the cover arms.
-const EYE: (f32, f32) = (0.7, 0.3);
 
 /// One gear of the layout.
 pub struct Gear {
@@ -40,14 +38,8 @@ pub struct Layout {
     pub gears: Vec<Gear>,
     /// Cover-bolt positions in (u, v), in bolt order.
     pub bolts: Vec<Vec2>,
-    /// Height of the cover's top face above the cover plane.
-    pub cover_thickness: f32,
     /// Height of a Torx cover bolt's drive face above the cover plane (as the add-on places it).
     pub bolt_face: f32,
-    /// The mounting arm(s): from, to.
-    pub arms: Vec<(Vec2, Vec2)>,
-    /// Half-width of the arms.
-    pub arm_width: f32,
 }
 
 impl Layout {
@@ -81,13 +73,6 @@ impl Layout {
                         .into_iter()
                         .map(|a| on_circle(cu, ru, a)),
                 );
-                let arms = match p.extension() {
-                    Extension::Type1 => vec![(cu, Vec2::new(cl.x + 0.65 * rl + 1.3, d.top - 2.0))],
-                    Extension::Type2 => [-1.0, 1.0]
-                        .map(|s| (cl, Vec2::new(cl.x + s * (rl + 1.5), cl.y - 0.4 * rl)))
-                        .to_vec(),
-                    Extension::None => vec![],
-                };
                 Layout {
                     to_motor: rotation * frame * mirror,
                     gears: vec![
@@ -105,10 +90,7 @@ impl Layout {
                         },
                     ],
                     bolts,
-                    cover_thickness: 0.5,
                     bolt_face: 0.5005,
-                    arms,
-                    arm_width: EYE.0,
                 }
             }
             MotorType::B => {
@@ -130,13 +112,7 @@ impl Layout {
                         depth: 1.5,
                     }],
                     bolts,
-                    cover_thickness: 0.4,
                     bolt_face: 0.6305,
-                    arms: vec![(
-                        Vec2::new(-2.0 * r, d.top + d.h1),
-                        Vec2::new(2.4, d.top + d.h2),
-                    )],
-                    arm_width: 0.5,
                 }
             }
         }
@@ -358,27 +334,73 @@ impl Layout {
         m.transformed(&self.to_motor)
     }
 
-    /// The cover: the plate over the gear(s), bolt lugs, hub, and the extension arm(s).
+    /// The cover, as the add-on builds it for each type.
     pub fn cover(&self, t: Tess, p: &MotorParams) -> Mesh {
-        let top = self.cover_thickness;
-        let mut m = Mesh::default();
         match p.motor_type {
-            MotorType::A => return self.cover_a(t, p.extension()),
-            MotorType::B => {
-                let g = &self.gears[0];
-                m.append(&plate(t.circle(g.centre, g.radius), vec![], 0.0, top));
-                m.append(&plate(convex_hull(&self.bolts), vec![], 0.0, 0.2));
-                if p.extension() == Extension::Type1 {
-                    let (from, to) = self.arms[0];
-                    m.append(&plate(strip(from, to, self.arm_width), vec![], 0.0, top));
-                    for e in [from, to] {
-                        m.append(&t.ring(e, 0.6, 0.25, 0.0, top));
-                    }
-                }
-            }
+            MotorType::A => self.cover_a(t, p.extension()),
+            MotorType::B => self.cover_b(t, p.extension()),
+        }
+    }
+
+    /// Type B's cover as the add-on builds it (its `create_Up2`): a ring over the gear with its
+    /// inner ring, a triangular board through three bolts, discs round the bolts and, with
+    /// extension 1, the mid board out to the side, 7 mm thick, with the thinner part joining
+    /// it to the bolts.
+    fn cover_b(&self, t: Tess, extension: Extension) -> Mesh {
+        const THIN: f32 = 0.2;
+        const MID: f32 = 0.7;
+        let (c, r) = (self.gears[0].centre, self.gears[0].radius);
+        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
+        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
+        let holes = self
+            .bolts
+            .iter()
+            .fold(disc(self.bolts[0], 0.35), |h, b| h.union(&disc(*b, 0.35)));
+        // the add-on's three bolts: the gear's second, the one beside the tower, the gear's first
+        let n = self.bolts.len();
+        let (b1, b2, b3) = (self.bolts[1], self.bolts[n - 1], self.bolts[0]);
+        let (b1, b2, b3) = (
+            b1 + Vec2::new(0.0, BOSS_RADIUS),
+            b2 + Vec2::new(BOSS_RADIUS, 0.0),
+            b3 - Vec2::new(0.0, BOSS_RADIUS),
+        );
+        let mut plates = vec![
+            (annulus(c, r, 0.75).difference(&holes), 0.15, 0.15 + MID),
+            (annulus(c, 0.9, 0.5), 0.15, 0.15 + MID),
+            (
+                Region::polygon(&[b1, b3, b2])
+                    .difference(&disc(c, 0.75))
+                    .difference(&holes),
+                0.15 - 0.01,
+                0.15 + THIN,
+            ),
+        ];
+        if extension == Extension::Type1 {
+            let p0 = b3 + Vec2::new(BOSS_RADIUS, 0.9);
+            let p1 = c + Vec2::new(-3.5, -1.3);
+            let p2 = c + Vec2::new(-3.5, 1.0);
+            let p3 = c + Vec2::new(-r, 1.0);
+            plates.push((
+                Region::polygon(&[p0, p1, p2, p3])
+                    .difference(&disc(c, 0.75))
+                    .difference(&holes),
+                0.15 - 0.02,
+                0.15 + MID,
+            ));
+            plates.push((
+                Region::polygon(&[b3, p1, p2, b1])
+                    .difference(&disc(c, 0.75))
+                    .difference(&holes),
+                0.15 - 0.03,
+                0.15 + THIN - 0.01,
+            ));
         }
         for b in &self.bolts {
-            m.append(&t.ring(*b, BOSS_RADIUS, HOLE_RADIUS, 0.0, top));
+            plates.push((disc(*b, BOSS_RADIUS), 0.2, 0.5));
+        }
+        let mut m = Mesh::default();
+        for (region, w0, w1) in plates {
+            m.append(&region.extrude(w0, w1));
         }
         m.transformed(&self.to_motor)
     }

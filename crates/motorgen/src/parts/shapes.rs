@@ -143,31 +143,6 @@ pub fn gear_outline(t: Tess, teeth: usize, scale: f32) -> (Vec<Vec2>, f32) {
     (outline, scale * tip.length())
 }
 
-/// The convex hull of points, counter-clockwise (monotone chain).
-pub fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
-    let mut p = points.to_vec();
-    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    p.dedup();
-    if p.len() < 3 {
-        return p;
-    }
-    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
-    for pass in [p.clone(), p.iter().rev().copied().collect()] {
-        let start = hull.len();
-        for q in pass {
-            while hull.len() >= start + 2
-                && (hull[hull.len() - 1] - hull[hull.len() - 2]).perp_dot(q - hull[hull.len() - 2])
-                    <= 0.0
-            {
-                hull.pop();
-            }
-            hull.push(q);
-        }
-        hull.pop();
-    }
-    hull
-}
-
 /// The transform taking local +z to `axis` (by the shortest-arc rotation) and the local origin
 /// to `origin`.
 pub fn frame(origin: Vec3, axis: Vec3) -> Affine3A {
