@@ -20,7 +20,7 @@ pub enum PartKind {
     ElectricConnection,
     /// Gear container: collar, tower, gear housings, boards and bolt bosses.
     GearContainer,
-    /// Cover over the gears, with its extension arm.
+    /// Cover over the gears, with its extension.
     Cover,
     /// A bolt joining the gear container to the pole pot.
     SideBolt,

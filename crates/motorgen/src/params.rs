@@ -217,16 +217,16 @@ motor_params! {
         kind: Real { min: 0.063, max: 0.075 },
         default: D::Num(0.07),
         auto: Full,
-        doc: "Type B: height of the upper end of the gear-extension arm above the pole-pot \
-               top, m. The add-on's README range (1.7-4) and its script's U(6.3, 8) disagree \
+        doc: "Type B: height of the upper end (the eye) of the gear-extension board above the \
+               pole-pot top, m. The add-on's README range (1.7-4) and its script's U(6.3, 8) disagree \
                with its property limits; these are the limits. Add-on: mf_Type_B_Height_1.",
     },
     type_b_height_2: f32 = "type_b_height_2" {
         kind: Real { min: 0.03, max: 0.06 },
         default: D::Num(0.035),
         auto: Full,
-        doc: "Type B: height of the lower end of the gear-extension arm above the pole-pot \
-               top, m. Add-on: mf_Type_B_Height_2.",
+        doc: "Type B: height of the lower end (the eye) of the gear-extension board above the \
+               pole-pot top, m. Add-on: mf_Type_B_Height_2.",
     },
     type_b_right_bolt_height: f32 = "type_b_right_bolt_height" {
         kind: Real { min: 0.017, max: 0.04 },
@@ -419,7 +419,7 @@ pub enum Extension {
     Type1,
     /// Two mounting eyes (A only).
     Type2,
-    /// No extension arm.
+    /// No extension.
     None,
 }
 
