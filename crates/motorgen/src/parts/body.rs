@@ -45,6 +45,16 @@ fn pot_section(t: Tess, radius: f32, half_width: f32) -> Section {
     }
 }
 
+/// The pot's outline scaled by `sx` across the flats and `sy` along them (the add-on's scaled
+/// copies of the pot for the insert, the collar and their cavities).
+fn pot_outline_scaled(t: Tess, sx: f32, sy: f32) -> Vec<Vec2> {
+    pot_section(t, POT_RADIUS, POT_HALF_WIDTH)
+        .ring(0.0)
+        .into_iter()
+        .map(|p| p * Vec2::new(sx, sy))
+        .collect()
+}
+
 /// Hollow pole pot (a cylinder with two flats, open towards the gearbox) and the shaft boss
 /// with its blind hole.
 pub fn pole_pot(t: Tess, d: &Dims) -> Mesh {
@@ -188,13 +198,7 @@ fn connection_at_origin(t: Tess) -> Mesh {
         b(0.15, 0.35, -2.975, -2.6 + e, -0.2, 0.8),
         b(1.15, 1.35, -2.975, -2.6 + e, -0.2, 0.8),
     ];
-    let outline = |sx: f32, sy: f32| -> Vec<Vec2> {
-        pot_section(t, POT_RADIUS, POT_HALF_WIDTH)
-            .ring(0.0)
-            .into_iter()
-            .map(|p| p * Vec2::new(sx, sy))
-            .collect()
-    };
+    let outline = |sx: f32, sy: f32| pot_outline_scaled(t, sx, sy);
     let insert = csg::difference(
         &plate(outline(0.8, 0.95), vec![], -0.75, 0.75),
         &[
@@ -246,13 +250,7 @@ pub fn collar_and_tower(t: Tess, d: &Dims) -> Mesh {
 
 /// The collar and tower with the pot's top at z = 0; `steps` are the tubes' heights.
 fn collar_and_tower_at_origin(t: Tess, steps: [f32; 4]) -> Mesh {
-    let outline = |sx: f32, sy: f32| -> Vec<Vec2> {
-        pot_section(t, POT_RADIUS, POT_HALF_WIDTH)
-            .ring(0.0)
-            .into_iter()
-            .map(|p| p * Vec2::new(sx, sy))
-            .collect()
-    };
+    let outline = |sx: f32, sy: f32| pot_outline_scaled(t, sx, sy);
     // the add-on's hole is as wide as the outer tube; 0.1 mm narrower, the tube fills it
     let collar = csg::difference(
         &plate(outline(1.0, 1.0), vec![], -0.1, COLLAR_HEIGHT),
@@ -269,18 +267,9 @@ fn collar_and_tower_at_origin(t: Tess, steps: [f32; 4]) -> Mesh {
         ));
     }
     for p in SIDE_BOLTS {
-        let boss = t.revolve(
-            &[
-                Vec2::new(0.0, 1.45),
-                Vec2::new(HOLE_RADIUS_SIDE, 1.45),
-                Vec2::new(HOLE_RADIUS_SIDE, 0.15),
-                Vec2::new(BOSS_RADIUS, 0.15),
-                Vec2::new(BOSS_RADIUS, 1.55),
-                Vec2::new(0.0, 1.55),
-            ],
-            &[],
-        );
-        parts.push(boss.transformed(&Affine3A::from_translation(p.extend(0.0))));
+        // open below, where the bolt enters, from 1.5 mm above the pot's top; 1 mm deck on top
+        let boss = t.boss(BOSS_RADIUS, 1.4, HOLE_RADIUS_SIDE, 1.3);
+        parts.push(boss.transformed(&Affine3A::from_translation(p.extend(0.15))));
     }
     for (k, (radius, height)) in [0.7, 0.6, 0.5, 0.4].into_iter().zip(steps).enumerate() {
         parts.push(t.ring(Vec2::ZERO, radius, radius - 0.1 / 3.0, 0.0, height));

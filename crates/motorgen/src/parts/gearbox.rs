@@ -254,23 +254,29 @@ impl Layout {
                 m.append(&piece.extrude(p0, p1));
             }
         }
-        for b in &self.bolts {
-            m.append(
-                &t.revolve(
-                    &[
-                        Vec2::new(0.0, -1.23),
-                        Vec2::new(BOSS_RADIUS, -1.23),
-                        Vec2::new(BOSS_RADIUS, 0.0),
-                        Vec2::new(0.2, 0.0),
-                        Vec2::new(0.2, -1.13),
-                        Vec2::new(0.0, -1.13),
-                    ],
-                    &[],
-                )
-                .transformed(&Affine3A::from_translation(b.extend(0.0))),
-            );
-        }
+        m.append(&self.bolt_bosses(t, -1.23, 0.0));
         m.transformed(&self.to_motor)
+    }
+
+    /// The cover-bolt bosses of the gear container: tubes (Ø8 mm, Ø4 mm hole) from `w0` to
+    /// `w1`, open towards the cover, with a 1 mm deck at the back.
+    fn bolt_bosses(&self, t: Tess, w0: f32, w1: f32) -> Mesh {
+        let mut m = Mesh::default();
+        for b in &self.bolts {
+            let boss = t.revolve(
+                &[
+                    Vec2::new(0.0, w0),
+                    Vec2::new(BOSS_RADIUS, w0),
+                    Vec2::new(BOSS_RADIUS, w1),
+                    Vec2::new(0.2, w1),
+                    Vec2::new(0.2, w0 + 0.1),
+                    Vec2::new(0.0, w0 + 0.1),
+                ],
+                &[],
+            );
+            m.append(&boss.transformed(&Affine3A::from_translation(b.extend(0.0))));
+        }
+        m
     }
 
     /// Type B's gearbox share of the gear container as the add-on builds it (its `create_Up1`
@@ -315,22 +321,7 @@ impl Layout {
         for (region, w0, w1) in plates {
             m.append(&region.extrude(w0, w1));
         }
-        for b in &self.bolts {
-            m.append(
-                &t.revolve(
-                    &[
-                        Vec2::new(0.0, -1.1),
-                        Vec2::new(BOSS_RADIUS, -1.1),
-                        Vec2::new(BOSS_RADIUS, 0.15),
-                        Vec2::new(0.2, 0.15),
-                        Vec2::new(0.2, -1.0),
-                        Vec2::new(0.0, -1.0),
-                    ],
-                    &[],
-                )
-                .transformed(&Affine3A::from_translation(b.extend(0.0))),
-            );
-        }
+        m.append(&self.bolt_bosses(t, -1.1, 0.15));
         m.transformed(&self.to_motor)
     }
 
