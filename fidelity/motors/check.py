@@ -3,13 +3,14 @@ Blender. Each case of reference/cases.json (made by reference.py with the add-on
 built with `motorfactory motor`, and each add-on part is compared with ours as the oracle's
 compare.py compares them: the largest deviation of a bounding-box face (mm) and the silhouette
 IoU along x, y and z (0.25 mm pixels). Each of our parts is also loaded as trimesh loads an STL
-(vertices welded) and checked to be watertight with consistent winding. The table goes into
-docs/fidelity-motors.md.
+(vertices welded) and checked to be watertight with consistent winding, and as Open3D loads it,
+checked to be watertight in Open3D's sense (edge- and vertex-manifold, and no two triangles
+intersecting: shells that touch or overlap fail). The table goes into docs/fidelity-motors.md.
 
 Usage: python3 fidelity/motors/check.py BINARY [--oracle DIR] [--write]
 Without --write the check fails (exit 1) when the figures differ from the documented table, so
 the table always says what the code builds; with --write it rewrites the table. Needs numpy,
-trimesh and the oracle's folder (for compare.py: the rasteriser and part mapping).
+trimesh, open3d and the oracle's folder (for compare.py: the rasteriser and part mapping).
 """
 import argparse
 import json
@@ -19,6 +20,7 @@ import sys
 import tempfile
 
 import numpy as np
+import open3d as o3d
 import trimesh
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -53,10 +55,13 @@ def rows(binary, case, args, compare):
         subprocess.run(cmd, check=True, capture_output=True)
         files = [f for f in sorted(os.listdir(tmp)) if f.endswith(".stl") and f != "motor.stl"]
         ours = {f[:-4]: compare.load_tris(os.path.join(tmp, f), 100.0) for f in files}
-        tight = {}
+        tight, solid = {}, {}
         for f in files:
             welded = trimesh.load(os.path.join(tmp, f), process=True)
             tight[f[:-4]] = bool(welded.is_watertight and welded.is_winding_consistent)
+            mesh = o3d.io.read_triangle_mesh(os.path.join(tmp, f))
+            mesh.remove_duplicated_vertices()
+            solid[f[:-4]] = bool(mesh.is_watertight())
     abb = {k: tuple(v[0]) for k, v in ref.items() if k != "Motor"}
     obb = {k: compare.bbox(v) for k, v in ours.items()}
     mapping = {k: [o for o in compare.PART_MAP[k] if o in ours] for k in abb if k in compare.PART_MAP}
@@ -69,7 +74,7 @@ def rows(binary, case, args, compare):
         names = list(ours) if part == "Motor" else mapping.get(part, [])
         (lo, hi), sil = ref[part]
         if not names:
-            out.append((part, "(none)", float("inf"), 0.0, 0.0, 0.0, False))
+            out.append((part, "(none)", float("inf"), 0.0, 0.0, 0.0, False, False))
             continue
         tris = np.concatenate([ours[n] for n in names])
         mn, mx = compare.bbox(tris)
@@ -77,29 +82,32 @@ def rows(binary, case, args, compare):
         ious = [compare.iou(sil[a], compare.union([compare.silhouette(ours[n], a) for n in names]))
                 for a in "xyz"]
         label = "all parts" if part == "Motor" else " + ".join(names)
-        out.append((part, label, dev, *ious, all(tight[n] for n in names)))
+        out.append((part, label, dev, *ious, all(tight[n] for n in names),
+                    all(solid[n] for n in names)))
     return out
 
 
 def table(binary, compare):
     cases = json.load(open(os.path.join(HERE, "reference", "cases.json")))["cases"]
     lines = ["| case | add-on part | ours | dev mm | IoU x | IoU y | IoU z | within 1 mm, IoU ≥ 0.90 "
-             "| watertight |",
-             "|---|---|---|---|---|---|---|---|---|"]
-    met = total = sealed = 0
+             "| watertight (trimesh) | watertight (Open3D) |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    met = total = sealed = solids = 0
     for case, info in cases.items():
-        for part, ours, dev, ix, iy, iz, tight in rows(binary, case, info["set"], compare):
+        for part, ours, dev, ix, iy, iz, tight, solid in rows(binary, case, info["set"], compare):
             goal = 0.95 if part == "Motor" else 0.90
             ok = dev <= 1.0 and min(ix, iy, iz) >= goal if part != "Motor" else min(ix, iy, iz) >= goal
             if part != "Motor":
                 met += ok
                 sealed += tight
+                solids += solid
                 total += 1
-            lines.append("| %s | %s | %s | %.1f | %.2f | %.2f | %.2f | %s | %s |"
+            lines.append("| %s | %s | %s | %.1f | %.2f | %.2f | %.2f | %s | %s | %s |"
                          % (case, part, ours, dev, ix, iy, iz, "yes" if ok else "no",
-                            "yes" if tight else "no"))
+                            "yes" if tight else "no", "yes" if solid else "no"))
     lines.append("")
     lines.append("Parts watertight with consistent winding after welding (trimesh): %d of %d." % (sealed, total))
+    lines.append("Parts watertight in Open3D (no touching or overlapping shells): %d of %d." % (solids, total))
     lines.append("Parts within 1 mm and IoU ≥ 0.90 on every axis: %d of %d." % (met, total))
     return "\n".join(lines)
 

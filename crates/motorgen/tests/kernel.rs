@@ -190,17 +190,25 @@ fn extrusion_with_holes() {
     assert!(close(m.signed_volume(), expect, 1e-5));
 }
 
-#[test]
-fn stacked_wheel_pinion_and_hub() {
-    // a wheel (r 10, hole 4) on z 0..2, a pinion (r 5, hole 2) on z 1..6: the wheel gives the
-    // outside below 2, the pinion's hole the inside above 1
-    let ring = |r: f32, n: usize| circle(Vec2::ZERO, r, n, 0.0);
-    let stretch = |outline: Vec<Vec2>, z0: f32, z1: f32| Stretch {
+/// A regular n-gon of radius r about the origin.
+fn ring(r: f32, n: usize) -> Vec<Vec2> {
+    circle(Vec2::ZERO, r, n, 0.0)
+}
+
+/// `outline` held unturned from z0 to z1.
+fn stretch(outline: Vec<Vec2>, z0: f32, z1: f32) -> Stretch {
+    Stretch {
         outline,
         z0,
         z1,
         turn: [0.0, 0.0],
-    };
+    }
+}
+
+#[test]
+fn stacked_wheel_pinion_and_hub() {
+    // a wheel (r 10, hole 4) on z 0..2, a pinion (r 5, hole 2) on z 1..6: the wheel gives the
+    // outside below 2, the pinion's hole the inside above 1
     let m = stack(
         &[
             stretch(ring(10.0, 48), 0.0, 2.0),
@@ -232,6 +240,30 @@ fn stacked_wheel_pinion_and_hub() {
     let v = turned.signed_volume();
     let plain = 2.0 * (p(48, 10.0) - p(20, 4.0));
     assert!(v < plain && v > 0.97 * plain, "{v} vs {plain}");
+}
+
+#[test]
+fn stacked_cup_on_a_boss_with_a_blind_hole() {
+    // a boss (r 1) on z 0..1 with a blind hole (r 0.5) 0..0.5, under a cup (r 3) on 1..4 whose
+    // cavity (r 2) goes down to 1.5: the hole stops inside the solid
+    let m = stack(
+        &[
+            stretch(ring(1.0, 16), 0.0, 1.0),
+            stretch(ring(3.0, 48), 1.0, 4.0),
+        ],
+        &[
+            stretch(ring(0.5, 12), 0.0, 0.5),
+            stretch(ring(2.0, 32), 1.5, 4.0),
+        ],
+    );
+    assert_solid(&m, 1);
+    let p = |n, r, h| ngon_prism(n, r, h);
+    let expect = p(16, 1.0, 1.0) + p(48, 3.0, 3.0) - p(12, 0.5, 0.5) - p(32, 2.0, 2.5);
+    assert!(
+        close(m.signed_volume(), expect, 1e-5),
+        "{}",
+        m.signed_volume()
+    );
 }
 
 #[test]

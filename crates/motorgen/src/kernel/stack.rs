@@ -21,26 +21,39 @@ pub struct Stretch {
 }
 
 /// Builds one closed shell facing outwards from the stretches of its outer boundary and of its
-/// hole, each listed from the bottom up, each stretch beginning where the one before ends; both
-/// boundaries span the same z range. Where an outline changes, the one must lie strictly
-/// inside the other, and every hole strictly inside the outer outline at the same height.
+/// hole, each listed from the bottom up. The outer stretches each begin where the one before
+/// ends; a hole stretch begins where the one before ends or higher up (the solid is full
+/// between), and the hole lies within the outer boundary's z range. Where an outline changes,
+/// the one must lie strictly inside the other, and every hole strictly inside the outer
+/// outline at the same height.
 pub fn stack(outer: &[Stretch], hole: &[Stretch]) -> Mesh {
     let mut mesh = Mesh::default();
     let outer_rings = walls(&mut mesh, outer, false);
     let hole_rings = walls(&mut mesh, hole, true);
-    let bottom_hole: Vec<&[u32]> = hole_rings
-        .first()
-        .map(|r| r.0.as_slice())
-        .into_iter()
-        .collect();
-    let top_hole: Vec<&[u32]> = hole_rings
-        .last()
-        .map(|r| r.1.as_slice())
-        .into_iter()
-        .collect();
+    let (bottom, top) = (outer[0].z0, outer[outer.len() - 1].z1);
+    let bottom_hole: Vec<&[u32]> = match (hole.first(), hole_rings.first()) {
+        (Some(s), Some(r)) if s.z0 == bottom => vec![r.0.as_slice()],
+        _ => vec![],
+    };
+    let top_hole: Vec<&[u32]> = match (hole.last(), hole_rings.last()) {
+        (Some(s), Some(r)) if s.z1 == top => vec![r.1.as_slice()],
+        _ => vec![],
+    };
     end_cap(&mut mesh, &outer_rings[0].0, &bottom_hole, false);
-    let top = &outer_rings[outer_rings.len() - 1].1;
-    end_cap(&mut mesh, top, &top_hole, true);
+    let top_ring = &outer_rings[outer_rings.len() - 1].1;
+    end_cap(&mut mesh, top_ring, &top_hole, true);
+    // the floor and the ceiling of each stretch of hole that ends inside the solid
+    for (k, s) in hole.iter().enumerate() {
+        let (floor, ceiling) = (&hole_rings[k].0, &hole_rings[k].1);
+        let from_below = k > 0 && hole[k - 1].z1 == s.z0;
+        if !from_below && s.z0 != bottom {
+            cap(&mut mesh, floor, &[], true);
+        }
+        let on_above = hole.get(k + 1).is_some_and(|next| next.z0 == s.z1);
+        if !on_above && s.z1 != top {
+            cap(&mut mesh, ceiling, &[], false);
+        }
+    }
     // outward by construction: walls round counter-clockwise outlines, caps wound to face out
     mesh
 }
@@ -154,6 +167,9 @@ fn walls(mesh: &mut Mesh, stretches: &[Stretch], is_hole: bool) -> Vec<(Vec<u32>
         }
     }
     for k in 1..stretches.len() {
+        if stretches[k - 1].z1 != stretches[k].z0 {
+            continue;
+        }
         let (below, above) = (&rings[k - 1].1, &rings[k].0);
         let area = |s: &Stretch| signed_area2(&s.outline).abs();
         let below_bigger = area(&stretches[k - 1]) > area(&stretches[k]);

@@ -9,7 +9,7 @@ use glam::{Affine3A, Vec2, Vec3};
 use super::Dims;
 use super::shapes::{Tess, plate, sector};
 
-use crate::kernel::{Mesh, Pocket, Section, csg, cuboid, sweep, sweep_loop};
+use crate::kernel::{Mesh, Section, Stretch, csg, cuboid, stack, sweep, sweep_loop};
 
 /// Pole-pot radius (the add-on's BOTTOM_DIA / 2).
 const POT_RADIUS: f32 = 2.0;
@@ -55,21 +55,30 @@ fn pot_outline_scaled(t: Tess, sx: f32, sy: f32) -> Vec<Vec2> {
         .collect()
 }
 
-/// Hollow pole pot (a cylinder with two flats, open towards the gearbox) and the shaft boss
-/// with its blind hole.
+/// Hollow pole pot (a cylinder with two flats, open towards the gearbox) on the shaft boss with
+/// its blind hole, one closed shell.
 pub fn pole_pot(t: Tess, d: &Dims) -> Mesh {
-    let s = pot_section(t, POT_RADIUS, POT_HALF_WIDTH);
-    let cavity = Pocket {
-        outline: pot_section(t, CAVITY_RADIUS, CAVITY_HALF_WIDTH).ring(0.0),
-        depth: d.bottom - POT_FLOOR,
+    let along = |outline: Vec<Vec2>, z0: f32, z1: f32| Stretch {
+        outline,
+        z0,
+        z1,
+        turn: [0.0; 2],
     };
-    let mut pot = sweep(
-        &s,
-        &[Vec2::new(0.0, d.sub), Vec2::new(0.0, d.top)],
-        &[cavity],
-    );
-    pot.append(&t.boss(0.5, d.sub, 0.25, 0.5));
-    pot
+    let outline = |radius: f32, half_width: f32| pot_section(t, radius, half_width).ring(0.0);
+    stack(
+        &[
+            along(t.circle(Vec2::ZERO, 0.5), 0.0, d.sub),
+            along(outline(POT_RADIUS, POT_HALF_WIDTH), d.sub, d.top),
+        ],
+        &[
+            along(t.circle(Vec2::ZERO, 0.25), 0.0, 0.5),
+            along(
+                outline(CAVITY_RADIUS, CAVITY_HALF_WIDTH),
+                d.sub + POT_FLOOR,
+                d.top,
+            ),
+        ],
+    )
 }
 
 /// The two magnet shells on ±y inside the pot, 3/4 of its length, 0.5 below its centre. As the
@@ -149,10 +158,12 @@ pub fn armature(t: Tess, d: &Dims) -> Mesh {
     let (mid, half) = (0.5 * (core_lo + core_hi), 0.4 * core_len);
     let span = 36f32.to_radians();
     let n = (t.n(1.285) / 10).max(2);
+    // the chords of the packs' inner arcs 0.1 mm clear of the core
+    let inner = (CORE_RADIUS + 0.01) / (0.5 * span / n as f32).cos();
     for k in 0..8 {
         let from = (k as f32 * 45.0 - 0.75).to_radians();
         m.append(&plate(
-            sector(1.21, 1.285, from, from + span, n),
+            sector(inner, 1.285, from, from + span, n),
             vec![],
             mid - half,
             mid + half,
@@ -274,7 +285,8 @@ fn collar_and_tower_at_origin(t: Tess, steps: [f32; 4]) -> Mesh {
     for (k, (radius, height)) in [0.7, 0.6, 0.5, 0.4].into_iter().zip(steps).enumerate() {
         parts.push(t.ring(Vec2::ZERO, radius, radius - 0.1 / 3.0, 0.0, height));
         if k == 3 {
-            parts.push(t.cylinder(radius, height - 0.2, height));
+            // its cap, 10 µm inside the tube's wall and top so that no faces are coplanar
+            parts.push(t.cylinder(radius - e, height - 0.2, height - e));
         }
     }
     let united = csg::union(&parts);
