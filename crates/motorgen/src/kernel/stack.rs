@@ -1,6 +1,7 @@
 //! Stacked solids: an outer boundary and a hole that each run along z through stretches of
-//! (possibly turning) outlines, with flat steps where one outline gives way to the next. A gear
-//! with its pinion or hub on one axis is such a solid.
+//! (possibly turning) outlines, with flat steps where one outline gives way to the next; the
+//! hole may stop inside the solid and start again. A gear with its pinion or hub on one axis is
+//! such a solid, and so is the pole pot on its shaft boss.
 
 use glam::Vec2;
 
