@@ -141,46 +141,45 @@ impl Layout {
         let l = 1.5 * lower.depth;
         let top = d.top;
         let tower = d.tower_steps()[2];
-        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
-        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
         let rect = |u0: f32, v0: f32, u1: f32, v1: f32| {
             Region::polygon(&rect(Vec2::new(u0, v0), Vec2::new(u1, v1)))
         };
         // boards end 0.5 mm inside the housings' outer walls; upper parts reach into the lower
         // housing's wall
-        let board_cut_lower = disc(cl, rl - 0.05);
-        let board_cut_upper = disc(cu, ru - 0.05);
-        let inside_lower = disc(cl, rl - WALL);
+        let board_cut_lower = t.disc(cl, rl - 0.05);
+        let board_cut_upper = t.disc(cu, ru - 0.05);
+        let inside_lower = t.disc(cl, rl - WALL);
         let (floor, mid) = (-2.0 * l / 3.0, -l / 3.0);
         let mut plates: Vec<(Region, f32, f32)> = vec![
             // lower housing: floor, wall, the wall opened by the upper housing, boss behind
-            (disc(cl, rl), floor, floor + WALL),
-            (annulus(cl, rl, rl - WALL), floor + WALL - LAP, mid + LAP),
+            (t.disc(cl, rl), floor, floor + WALL),
+            (t.annulus(cl, rl, rl - WALL), floor + WALL - LAP, mid + LAP),
             (
-                annulus(cl, rl, rl - WALL).difference(&disc(cu, ru - WALL)),
+                t.annulus(cl, rl, rl - WALL)
+                    .difference(&t.disc(cu, ru - WALL)),
                 mid,
                 0.0,
             ),
-            (disc(cl, 0.5), -0.8 * l - 0.5, floor + WALL + LAP),
+            (t.disc(cl, 0.5), -0.8 * l - 0.5, floor + WALL + LAP),
             // upper housing: floor with its inner ring, wall, the rings behind, outside the
             // lower housing's inside
             (
-                annulus(cu, ru, 0.65).difference(&inside_lower),
+                t.annulus(cu, ru, 0.65).difference(&inside_lower),
                 mid,
                 mid + WALL,
             ),
             (
-                annulus(cu, ru, ru - WALL).difference(&inside_lower),
+                t.annulus(cu, ru, ru - WALL).difference(&inside_lower),
                 mid + WALL - LAP,
                 0.0 - LAP,
             ),
             (
-                annulus(cu, 0.8, 0.65).difference(&inside_lower),
+                t.annulus(cu, 0.8, 0.65).difference(&inside_lower),
                 mid - 1.0,
                 mid + 0.5 * WALL,
             ),
             (
-                annulus(cu, 1.45, 1.25).difference(&inside_lower),
+                t.annulus(cu, 1.45, 1.25).difference(&inside_lower),
                 mid - 0.1,
                 mid + 0.5 * WALL,
             ),
@@ -258,6 +257,13 @@ impl Layout {
         m.transformed(&self.to_motor)
     }
 
+    /// The holes the cover bolts pass through (Ø7 mm).
+    fn bolt_holes(&self, t: Tess) -> Region {
+        self.bolts.iter().fold(t.disc(self.bolts[0], 0.35), |h, b| {
+            h.union(&t.disc(*b, 0.35))
+        })
+    }
+
     /// The cover-bolt bosses of the gear container: tubes (Ø8 mm, Ø4 mm hole) from `w0` to
     /// `w1`, open towards the cover, with a 1 mm deck at the back.
     fn bolt_bosses(&self, t: Tess, w0: f32, w1: f32) -> Mesh {
@@ -288,12 +294,7 @@ impl Layout {
         let g = &self.gears[0];
         let (c, r) = (g.centre, g.radius);
         let top = d.top;
-        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
-        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
-        let bolt_holes = self
-            .bolts
-            .iter()
-            .fold(disc(self.bolts[0], 0.35), |h, b| h.union(&disc(*b, 0.35)));
+        let bolt_holes = self.bolt_holes(t);
         let (eye_up, eye_low) = (
             Vec2::new(-2.0 * r + 0.3, top + d.h1 - 0.3),
             Vec2::new(2.1, top + d.h2 - 0.3),
@@ -305,16 +306,20 @@ impl Layout {
             Vec2::new(2.4, top + d.h2),
             Vec2::new(-r + 0.1, c.y + r + 0.8),
         ])
-        .union(&disc(eye_up, 0.6))
-        .union(&disc(eye_low, 0.6))
-        .difference(&disc(c, r - 0.05))
-        .difference(&disc(eye_up, 0.2))
-        .difference(&disc(eye_low, 0.2))
+        .union(&t.disc(eye_up, 0.6))
+        .union(&t.disc(eye_low, 0.6))
+        .difference(&t.disc(c, r - 0.05))
+        .difference(&t.disc(eye_up, 0.2))
+        .difference(&t.disc(eye_low, 0.2))
         .difference(&bolt_holes);
         let plates = [
-            (annulus(c, r, 0.75).difference(&bolt_holes), -1.35, -1.05),
-            (annulus(c, r, r - 0.1).difference(&bolt_holes), -1.06, 0.15),
-            (annulus(c, 0.9, 0.5), -1.6, -1.2),
+            (t.annulus(c, r, 0.75).difference(&bolt_holes), -1.35, -1.05),
+            (
+                t.annulus(c, r, r - 0.1).difference(&bolt_holes),
+                -1.06,
+                0.15,
+            ),
+            (t.annulus(c, 0.9, 0.5), -1.6, -1.2),
             (board, -0.6, 0.15),
         ];
         let mut m = Mesh::default();
@@ -341,12 +346,7 @@ impl Layout {
         const THIN: f32 = 0.2;
         const MID: f32 = 0.7;
         let (c, r) = (self.gears[0].centre, self.gears[0].radius);
-        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
-        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
-        let holes = self
-            .bolts
-            .iter()
-            .fold(disc(self.bolts[0], 0.35), |h, b| h.union(&disc(*b, 0.35)));
+        let holes = self.bolt_holes(t);
         // the add-on's three bolts: the gear's second, the one beside the tower, the gear's first
         let n = self.bolts.len();
         let (b1, b2, b3) = (self.bolts[1], self.bolts[n - 1], self.bolts[0]);
@@ -356,11 +356,11 @@ impl Layout {
             b3 - Vec2::new(0.0, BOSS_RADIUS),
         );
         let mut plates = vec![
-            (annulus(c, r, 0.75).difference(&holes), 0.15, 0.15 + MID),
-            (annulus(c, 0.9, 0.5), 0.15, 0.15 + MID),
+            (t.annulus(c, r, 0.75).difference(&holes), 0.15, 0.15 + MID),
+            (t.annulus(c, 0.9, 0.5), 0.15, 0.15 + MID),
             (
                 Region::polygon(&[b1, b3, b2])
-                    .difference(&disc(c, 0.75))
+                    .difference(&t.disc(c, 0.75))
                     .difference(&holes),
                 0.15 - 0.01,
                 0.15 + THIN,
@@ -373,21 +373,21 @@ impl Layout {
             let p3 = c + Vec2::new(-r, 1.0);
             plates.push((
                 Region::polygon(&[p0, p1, p2, p3])
-                    .difference(&disc(c, 0.75))
+                    .difference(&t.disc(c, 0.75))
                     .difference(&holes),
                 0.15 - 0.02,
                 0.15 + MID,
             ));
             plates.push((
                 Region::polygon(&[b3, p1, p2, b1])
-                    .difference(&disc(c, 0.75))
+                    .difference(&t.disc(c, 0.75))
                     .difference(&holes),
                 0.15 - 0.03,
                 0.15 + THIN - 0.01,
             ));
         }
         for b in &self.bolts {
-            plates.push((disc(*b, BOSS_RADIUS), 0.2, 0.5));
+            plates.push((t.disc(*b, BOSS_RADIUS), 0.2, 0.5));
         }
         let mut m = Mesh::default();
         for (region, w0, w1) in plates {
@@ -404,32 +404,30 @@ impl Layout {
         const LAP: f32 = 0.01;
         let (lower, upper) = (&self.gears[0], &self.gears[1]);
         let (cl, rl, cu, ru) = (lower.centre, lower.radius, upper.centre, upper.radius);
-        let disc = |c: Vec2, r: f32| Region::polygon(&t.circle(c, r));
-        let annulus = |c: Vec2, r_out: f32, r_in: f32| disc(c, r_out).difference(&disc(c, r_in));
-        let groove = annulus(cl, rl - 0.5, rl - 1.2);
+        let groove = t.annulus(cl, rl - 0.5, rl - 1.2);
         let mut plates = vec![
-            (disc(cl, rl), -0.1, 0.05 + LAP),
-            (disc(cl, rl).difference(&groove), 0.05, 0.4),
-            (disc(cl, 0.5), 0.15, 1.0),
-            (annulus(cu, ru, 0.8), -0.1, 0.4),
+            (t.disc(cl, rl), -0.1, 0.05 + LAP),
+            (t.disc(cl, rl).difference(&groove), 0.05, 0.4),
+            (t.disc(cl, 0.5), 0.15, 1.0),
+            (t.annulus(cu, ru, 0.8), -0.1, 0.4),
             // (the add-on's own booleans leave the inner ring and the bolt rings solid)
-            (disc(cu, 0.8), -0.3, 0.7),
-            (annulus(cu, 1.45, 1.25), -0.2, 0.7),
+            (t.disc(cu, 0.8), -0.3, 0.7),
+            (t.annulus(cu, 1.45, 1.25), -0.2, 0.7),
         ];
         for b in &self.bolts {
-            plates.push((disc(*b, BOSS_RADIUS), -0.1, 0.2));
+            plates.push((t.disc(*b, BOSS_RADIUS), -0.1, 0.2));
         }
         let mut m = Mesh::default();
         if let Some(zone) = ExtensionZone::new(extension, cu, ru) {
             plates.push((
-                Region::polygon(&zone.bottom_board()).difference(&disc(cl, rl - 0.5)),
+                Region::polygon(&zone.bottom_board()).difference(&t.disc(cl, rl - 0.5)),
                 -0.1,
                 0.2,
             ));
             let eye_length = if zone.two_eyes { 2.6 } else { 1.6 };
             for (centre, r) in zone.eyes() {
                 plates.push((
-                    annulus(centre, r, (r - 0.5).max(0.1)),
+                    t.annulus(centre, r, (r - 0.5).max(0.1)),
                     -0.1,
                     eye_length - 0.1,
                 ));

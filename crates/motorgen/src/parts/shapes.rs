@@ -4,7 +4,7 @@ use std::f32::consts::TAU;
 
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
-use crate::kernel::{Detail, Extrusion, Mesh, Pocket, Section, circle, extrude, sweep};
+use crate::kernel::{Detail, Extrusion, Mesh, Pocket, Region, Section, circle, extrude, sweep};
 
 /// Tessellation in centimetre units.
 #[derive(Clone, Copy, Debug)]
@@ -65,6 +65,16 @@ impl Tess {
     /// A flat ring (annulus) from `z0` to `z1`.
     pub fn ring(self, c: Vec2, r_out: f32, r_in: f32, z0: f32, z1: f32) -> Mesh {
         plate(self.circle(c, r_out), vec![self.circle(c, r_in)], z0, z1)
+    }
+
+    /// A disc as a planar region.
+    pub fn disc(self, c: Vec2, r: f32) -> Region {
+        Region::polygon(&self.circle(c, r))
+    }
+
+    /// An annulus as a planar region.
+    pub fn annulus(self, c: Vec2, r_out: f32, r_in: f32) -> Region {
+        self.disc(c, r_out).difference(&self.disc(c, r_in))
     }
 }
 
