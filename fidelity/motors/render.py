@@ -67,8 +67,10 @@ def render(parts, frame):
         v = (tris - centre) @ R.T
         n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
         norm = np.linalg.norm(n, axis=1)
-        keep = (norm > 1e-12) & (n[:, 2] > 0)
+        # two-sided: a face wound the wrong way (the add-on has some) is drawn as seen
+        keep = norm > 1e-12
         v, n = v[keep], n[keep] / norm[keep, None]
+        n *= np.sign(n[:, 2:3] + 1e-30)
         shade = 0.35 + 0.65 * np.clip(n @ light, 0, 1)
         rgb = colour(name)
         px = np.stack([SIZE / 2 + v[..., 0] * scale, SIZE / 2 - v[..., 1] * scale], -1)

@@ -660,8 +660,9 @@ struct ExtensionZone {
     /// Side board 1: p1, p3, p5; side board 2: p2, p4, p6; where the back plate begins on
     /// board 1 (p3h).
     p: [Vec2; 7],
-    /// The boards' thickness across.
-    thickness: f32,
+    /// The boards' thickness across, pointing from side board 2 towards side board 1 (turned
+    /// with the zone where the add-on mirrors it).
+    across: Vec2,
     /// The upper gear's radius (the bottom board's top edge follows it).
     ru: f32,
     /// Two eyes (extension 2) or one.
@@ -694,7 +695,9 @@ impl ExtensionZone {
             p3 - 1.5 * Vec2::new(25f32.to_radians().sin(), 25f32.to_radians().cos())
         };
         let mut p = [p1, p3, p5, p2, p4, p6, p3h];
+        let mut across = Vec2::new(35f32.to_radians().cos() * 0.2, 0.0);
         if two_eyes {
+            across = -across;
             // the add-on mirrors this zone across u = 0 and moves it 2.32 cm along u
             for q in &mut p {
                 q.x = 2.32 - q.x;
@@ -702,7 +705,7 @@ impl ExtensionZone {
         }
         Some(ExtensionZone {
             p,
-            thickness: 35f32.to_radians().cos() * 0.2,
+            across,
             ru,
             two_eyes,
         })
@@ -711,7 +714,7 @@ impl ExtensionZone {
     /// The two side boards: outline and each corner's depth along the gear axis.
     fn side_boards(&self) -> [(Vec<Vec2>, Vec<f32>); 2] {
         let [p1, p3, p5, p2, p4, p6, _] = self.p;
-        let t = Vec2::new(self.thickness, 0.0);
+        let t = self.across;
         let depth = vec![0.5, 0.5, 1.1, 1.5, 1.5, 1.1];
         [
             (vec![p1, p1 - t, p3 - t, p5 - t, p5, p3], depth.clone()),
@@ -722,12 +725,12 @@ impl ExtensionZone {
     /// The bottom board between the side boards (reaching half into them).
     fn bottom_board(&self) -> Vec<Vec2> {
         let [p1, p3, p5, p2, p4, p6, _] = self.p;
-        let t = Vec2::new(self.thickness, 0.0);
+        let t = self.across;
         let a1 = (p3 - p1).normalize();
         vec![
             p1 + t - Vec2::new(0.0, 0.4 * self.ru * a1.x.abs()),
-            p3 - 1.5 * t,
-            p5 - 1.5 * t,
+            p3 - 0.5 * t,
+            p5 - 0.5 * t,
             p6 + 0.5 * t,
             p4 + 0.5 * t,
             p2 - Vec2::new(0.0, self.ru / 3.0),
@@ -738,10 +741,10 @@ impl ExtensionZone {
     /// at the boards' back (the add-on leaves it a bare face): outline and each corner's depth.
     fn back_plate(&self) -> (Vec<Vec2>, Vec<f32>) {
         let [_, _, p5, _, p4, p6, p3h] = self.p;
-        let t = Vec2::new(self.thickness, 0.0);
+        let t = self.across;
         // reaching half into the side boards, as the bottom board does
         (
-            vec![p3h - 1.5 * t, p5 - 1.5 * t, p6 + 0.5 * t, p4 + 0.5 * t],
+            vec![p3h - 0.5 * t, p5 - 0.5 * t, p6 + 0.5 * t, p4 + 0.5 * t],
             vec![1.1, 1.5, 1.5, 1.1],
         )
     }
@@ -750,7 +753,7 @@ impl ExtensionZone {
     /// thick), as deep as the back plate's top.
     fn cross_board(&self) -> Vec<Vec2> {
         let [_, _, _, _, p4, _, p3h] = self.p;
-        strip(p3h - Vec2::new(self.thickness, 0.0), p4, 0.05)
+        strip(p3h - self.across, p4, 0.05)
     }
 
     /// The eyes: centre and outer radius.
