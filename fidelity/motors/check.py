@@ -2,7 +2,9 @@
 Blender. Each case of reference/cases.json (made by reference.py with the add-on as an oracle) is
 built with `motorfactory motor`, and each add-on part is compared with ours as the oracle's
 compare.py compares them: the largest deviation of a bounding-box face (mm) and the silhouette
-IoU along x, y and z (0.25 mm pixels). Each of our parts is also loaded as trimesh loads an STL
+IoU along x, y and z (0.25 mm pixels); and their depth maps along x, y and z from both sides
+(depth.py: 0.5 mm pixels): of the pixels where both see a surface, the share within 0.5 mm,
+the least of the six views. Each of our parts is also loaded as trimesh loads an STL
 (vertices welded) and checked to be watertight with consistent winding, and as Open3D loads it,
 checked to be watertight in Open3D's sense (edge- and vertex-manifold, and no two triangles
 intersecting: shells that touch or overlap fail). The table goes into docs/fidelity-motors.md.
@@ -23,14 +25,17 @@ import numpy as np
 import open3d as o3d
 import trimesh
 
+import depth
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 DOC = os.path.join(ROOT, "docs", "fidelity-motors.md")
+DEPTH_GOAL = 0.90
 BEGIN, END = "<!-- table: fidelity/motors/check.py --write -->", "<!-- end of table -->"
 
 
 def reference(case):
-    """The add-on's bounding boxes and silhouettes of `case`: {part: (bbox, {axis: raster})}."""
+    """The add-on's measurements of `case`: {part: (bbox, {axis: silhouette}, {axis: depth maps})}."""
     data = np.load(os.path.join(HERE, "reference", case + ".npz"))
     parts = {}
     for key in data.files:
@@ -42,7 +47,10 @@ def reference(case):
                 bits = np.unpackbits(data["mask/%s/%s" % (part, axis)])[: h * w]
                 origin = tuple(int(o) for o in data["origin/%s/%s" % (part, axis)])
                 sil[axis] = (bits.reshape(h, w).astype(bool), origin)
-            parts[part] = (data[key], sil)
+            maps = {axis: (data["depth/%s/%s" % (part, axis)],
+                           tuple(int(o) for o in data["depth_origin/%s/%s" % (part, axis)]))
+                    for axis in "xyz"}
+            parts[part] = (data[key], sil, maps)
     return parts
 
 
@@ -72,17 +80,25 @@ def rows(binary, case, args, compare):
     out = []
     for part in order:
         names = list(ours) if part == "Motor" else mapping.get(part, [])
-        (lo, hi), sil = ref[part]
+        (lo, hi), sil, maps = ref[part]
         if not names:
-            out.append((part, "(none)", float("inf"), 0.0, 0.0, 0.0, False, False))
+            out.append((part, "(none)", float("inf"), 0.0, 0.0, 0.0, 0.0, False, False))
             continue
         tris = np.concatenate([ours[n] for n in names])
         mn, mx = compare.bbox(tris)
         dev = float(max(np.abs(mn - lo).max(), np.abs(mx - hi).max()) * 10)
         ious = [compare.iou(sil[a], compare.union([compare.silhouette(ours[n], a) for n in names]))
                 for a in "xyz"]
+        # the least agreement of the six views (each axis from below and from above)
+        agree = 1.0
+        for a in "xyz":
+            ours_maps, origin = depth.depth_maps(tris, a)
+            for side in range(2):
+                share, _ = depth.agreement((maps[a][0][side:side + 1], maps[a][1]),
+                                           (ours_maps[side:side + 1], origin))
+                agree = min(agree, share)
         label = "all parts" if part == "Motor" else " + ".join(names)
-        out.append((part, label, dev, *ious, all(tight[n] for n in names),
+        out.append((part, label, dev, *ious, agree, all(tight[n] for n in names),
                     all(solid[n] for n in names)))
     return out
 
@@ -90,25 +106,28 @@ def rows(binary, case, args, compare):
 def table(binary, compare):
     cases = json.load(open(os.path.join(HERE, "reference", "cases.json")))["cases"]
     lines = ["| case | add-on part | ours | dev mm | IoU x | IoU y | IoU z | within 1 mm, IoU ≥ 0.90 "
-             "| watertight (trimesh) | watertight (Open3D) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
-    met = total = sealed = solids = 0
+             "| depth ≤ 0.5 mm | watertight (trimesh) | watertight (Open3D) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    met = total = sealed = solids = deep = 0
     for case, info in cases.items():
-        for part, ours, dev, ix, iy, iz, tight, solid in rows(binary, case, info["set"], compare):
+        for part, ours, dev, ix, iy, iz, agree, tight, solid in rows(binary, case, info["set"], compare):
             goal = 0.95 if part == "Motor" else 0.90
             ok = dev <= 1.0 and min(ix, iy, iz) >= goal if part != "Motor" else min(ix, iy, iz) >= goal
             if part != "Motor":
                 met += ok
                 sealed += tight
                 solids += solid
+                deep += agree >= DEPTH_GOAL
                 total += 1
-            lines.append("| %s | %s | %s | %.1f | %.2f | %.2f | %.2f | %s | %s | %s |"
-                         % (case, part, ours, dev, ix, iy, iz, "yes" if ok else "no",
+            lines.append("| %s | %s | %s | %.1f | %.2f | %.2f | %.2f | %s | %.2f | %s | %s |"
+                         % (case, part, ours, dev, ix, iy, iz, "yes" if ok else "no", agree,
                             "yes" if tight else "no", "yes" if solid else "no"))
     lines.append("")
     lines.append("Parts watertight with consistent winding after welding (trimesh): %d of %d." % (sealed, total))
     lines.append("Parts watertight in Open3D (no touching or overlapping shells): %d of %d." % (solids, total))
     lines.append("Parts within 1 mm and IoU ≥ 0.90 on every axis: %d of %d." % (met, total))
+    lines.append("Parts whose depth agrees within 0.5 mm on at least %d %% of the pixels of every view: "
+                 "%d of %d." % (round(100 * DEPTH_GOAL), deep, total))
     return "\n".join(lines)
 
 

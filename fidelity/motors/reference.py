@@ -1,9 +1,11 @@
 """Makes the compact reference data of the motor fidelity check from the original add-on, run as
-an oracle in Blender's `bpy`: per case, each add-on part's bounding box and its silhouettes along
-x, y and z (0.25 mm pixels on a grid fixed in space, as the oracle's compare.py draws them). No
-geometry of the add-on is kept, only these measurements.
+an oracle in Blender's `bpy`: per case, each add-on part's bounding box, its silhouettes along
+x, y and z (0.25 mm pixels on a grid fixed in space, as the oracle's compare.py draws them) and
+its depth maps along x, y and z from both sides (0.5 mm pixels, depth.py). No geometry of the
+add-on is kept, only these measurements.
 
-Usage (Python 3.11 with bpy==5.0.1, numpy and trimesh, as the oracle's README sets up):
+Usage (Python 3.11 with bpy==5.0.1, numpy, trimesh and open3d, as the oracle's README sets up
+plus open3d):
     python fidelity/motors/reference.py [--oracle ../shared/reference/addon-oracle] [--random 8]
 
 Cases: the oracle's five named ones (cases.json), and add-on random motors (its own generator,
@@ -68,6 +70,7 @@ def main():
     oracle = os.path.abspath(a.oracle)
     sys.path.insert(0, oracle)
     import compare  # the oracle's rasteriser and bounding boxes
+    import depth
     from to_set import to_set  # the oracle's parameter mapping
 
     named = json.load(open(os.path.join(oracle, "cases.json")))
@@ -96,6 +99,9 @@ def main():
                     data["mask/%s/%s" % (part, axis)] = np.packbits(mask)
                     data["shape/%s/%s" % (part, axis)] = np.array(mask.shape)
                     data["origin/%s/%s" % (part, axis)] = np.array(origin)
+                    maps, origin = depth.depth_maps(tris, axis)
+                    data["depth/%s/%s" % (part, axis)] = maps
+                    data["depth_origin/%s/%s" % (part, axis)] = np.array(origin)
             np.savez_compressed(os.path.join(out_dir, name + ".npz"), **data)
             index[name] = {"set": args, "warnings": warnings, "addon_params": used}
             print("%s: %d parts" % (name, sum(k.startswith("bbox/") for k in data)), flush=True)
@@ -105,6 +111,8 @@ def main():
                   "transform.rotate sign corrected, in bpy 5.0.1 with the BMesh boolean",
         "bpy": __import__("bpy").app.version_string,
         "pixel_cm": compare.PX,
+        "depth_pixel_cm": depth.PX,
+        "depth_unit_cm": depth.UNIT,
         "cases": index,
     }
     json.dump(about, open(os.path.join(out_dir, "cases.json"), "w"), indent=1, sort_keys=True)

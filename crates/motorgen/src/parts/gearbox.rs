@@ -412,7 +412,8 @@ impl Layout {
             (t.annulus(cu, ru, 0.8), -0.1, 0.4),
             // (the add-on's own booleans leave the inner ring and the bolt rings solid)
             (t.disc(cu, 0.8), -0.3, 0.7),
-            (t.annulus(cu, 1.45, 1.25), -0.2, 0.7),
+            (t.annulus(cu, 1.45, 1.25), -0.2, 0.4 + LAP),
+            (t.disc(cu, 1.45), 0.4, 0.7),
         ];
         for b in &self.bolts {
             plates.push((t.disc(*b, BOSS_RADIUS), -0.1, 0.2));
@@ -493,13 +494,12 @@ impl Layout {
             }
             _ => {
                 // the add-on turns this gear onto its axis about another axis than type A's:
-                // seen along w its teeth stand half a pitch on and lean the other way
+                // seen along w its teeth stand a quarter pitch on
                 let (mut gear, tip) = wheel(30, 0.75 * r, 0.8, -0.975, 0.075);
-                let half_pitch = Vec2::from_angle(std::f32::consts::PI / 30.0);
+                let quarter_pitch = Vec2::from_angle(std::f32::consts::PI / 60.0);
                 for q in &mut gear.outline {
-                    *q = half_pitch.rotate(*q);
+                    *q = quarter_pitch.rotate(*q);
                 }
-                gear.twist = -gear.twist;
                 (vec![gear, round(0.75, 0.4, -1.425, 0.525)], tip)
             }
         };
