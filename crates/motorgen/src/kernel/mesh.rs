@@ -101,14 +101,12 @@ impl Mesh {
     /// Signed enclosed volume (divergence theorem, accumulated in f64); positive for a closed
     /// mesh whose triangles face outwards.
     pub fn signed_volume(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| self.positions[i as usize].as_dvec3());
-                a.dot(b.cross(c))
-            })
-            .sum::<f64>()
-            / 6.0
+        let mut sum = 0.0f64;
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| self.positions[i as usize].as_dvec3());
+            sum += a.dot(b.cross(c));
+        }
+        sum / 6.0
     }
 
     /// Flips a single closed shell so that it encloses positive volume.
