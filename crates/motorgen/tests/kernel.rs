@@ -380,3 +380,25 @@ fn regions_extrude_piece_by_piece() {
     let expect = ngon_prism(n, 2.0, 1.0) - ngon_prism(n, 1.0, 1.0);
     assert!(close(m.signed_volume(), expect, 1e-5));
 }
+
+#[test]
+fn regions_whose_hole_touches_the_outline_extrude_to_a_solid() {
+    let square = Region::polygon(&[
+        Vec2::new(0.0, 0.0),
+        Vec2::new(2.0, 0.0),
+        Vec2::new(2.0, 2.0),
+        Vec2::new(0.0, 2.0),
+    ]);
+    // holes whose lowest corner lies on the bottom edge, exactly and within a hair of it
+    for gap in [0.0, 1e-6, -1e-6] {
+        let hole = Region::polygon(&circle(Vec2::new(1.0, 0.5 + gap), 0.5, 32, 0.0));
+        let plate = square.difference(&hole);
+        let m = plate.extrude(0.0, 0.3);
+        assert_solid(&m, 1);
+        // the pinch opened by at most the tolerance: the volume is the region's
+        assert!(
+            close(m.signed_volume(), 0.3 * plate.area(), 1e-3),
+            "gap {gap}"
+        );
+    }
+}

@@ -48,12 +48,14 @@ impl Region {
     /// The region extruded from `z0` to `z1`: a closed shell for each of its connected pieces.
     /// Corners closer than a ten-thousandth of the region's size to their neighbours' line
     /// and pieces smaller than a millionth of its size squared (slivers a boolean leaves) are
-    /// dropped first, so that no face degenerates.
+    /// dropped first, so that no face degenerates; where a hole touches the outline, or two
+    /// pieces touch, closer than that, the pinch is opened.
     pub fn extrude(&self, z0: f32, z1: f32) -> Mesh {
         let b = self.0.bounds();
         let size = (b.max.x - b.min.x).max(b.max.y - b.min.y);
         let mut m = Mesh::default();
-        let simple = self.0.simplify(1e-4 * size);
+        let tolerance = 1e-4 * size;
+        let mut simple = self.0.simplify(tolerance);
         let contours = |cs: &CrossSection| -> Vec<Vec<Vec2>> {
             cs.to_polygons()
                 .iter()
@@ -64,8 +66,15 @@ impl Region {
                 })
                 .collect()
         };
+        let mut all = contours(&simple);
+        if touching(&all, tolerance as f32) {
+            // walls would meet along one edge where the loops touch: open the pinch (shrink,
+            // then grow back, by the tolerance)
+            let open = |cs: &CrossSection, by: f64| cs.offset_with_params(by, 2, 2.0, 0);
+            simple = open(&open(&simple, -tolerance), tolerance).simplify(tolerance);
+            all = contours(&simple);
+        }
         // one outer contour: one piece, without asking Clipper2 to split it
-        let all = contours(&simple);
         let pieces = if all.iter().filter(|l| signed_area2(l) > 0.0).count() == 1 {
             vec![all]
         } else {
@@ -94,5 +103,75 @@ impl Region {
             m.append(&plate);
         }
         m
+    }
+}
+
+/// Whether a corner lies within `eps` of an edge it does not end (a hole touching its piece's
+/// outline, two pieces touching, or a loop touching itself).
+fn touching(loops: &[Vec<Vec2>], eps: f32) -> bool {
+    let boxes: Vec<Bounds> = loops.iter().map(|l| Bounds::of(l)).collect();
+    let near = |(a, b): (Vec2, Vec2), p: Vec2| {
+        p != a && p != b && Bounds::of(&[a, b]).meets(&Bounds::of(&[p]), eps) && {
+            let ab = b - a;
+            let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+            p.distance(a + t * ab) < eps
+        }
+    };
+    // the corners of another loop beside an edge
+    let across = loops.iter().enumerate().any(|(i, l)| {
+        loops.iter().enumerate().any(|(j, other)| {
+            i != j
+                && boxes[i].meets(&boxes[j], eps)
+                && edges(l).any(|e| {
+                    Bounds::of(&[e.0, e.1]).meets(&boxes[j], eps)
+                        && other.iter().any(|p| near(e, *p))
+                })
+        })
+    });
+    // a concave loop's own corners beside its edges, found by x
+    across
+        || loops.iter().filter(|l| !convex(l)).any(|l| {
+            let mut corners = l.clone();
+            corners.sort_by(|p, q| p.x.total_cmp(&q.x));
+            edges(l).any(|e| {
+                let from = corners.partition_point(|p| p.x < e.0.x.min(e.1.x) - eps);
+                corners[from..]
+                    .iter()
+                    .take_while(|p| p.x <= e.0.x.max(e.1.x) + eps)
+                    .any(|p| near(e, *p))
+            })
+        })
+}
+
+/// The edges of a closed loop.
+fn edges(l: &[Vec2]) -> impl Iterator<Item = (Vec2, Vec2)> + '_ {
+    (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()]))
+}
+
+/// Whether a loop turns one way only.
+fn convex(l: &[Vec2]) -> bool {
+    let n = l.len();
+    let turns = (0..n).map(|k| (l[(k + 1) % n] - l[k]).perp_dot(l[(k + 2) % n] - l[(k + 1) % n]));
+    let (left, right) = turns.fold((false, false), |(l, r), t| (l || t > 0.0, r || t < 0.0));
+    !(left && right)
+}
+
+/// An axis-aligned box of points.
+struct Bounds(Vec2, Vec2);
+
+impl Bounds {
+    fn of(points: &[Vec2]) -> Bounds {
+        let (lo, hi) = points.iter().fold((Vec2::MAX, Vec2::MIN), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+        Bounds(lo, hi)
+    }
+
+    /// Whether the two boxes, one grown by `eps`, overlap.
+    fn meets(&self, other: &Bounds, eps: f32) -> bool {
+        self.0.x <= other.1.x + eps
+            && other.0.x <= self.1.x + eps
+            && self.0.y <= other.1.y + eps
+            && other.0.y <= self.1.y + eps
     }
 }
