@@ -179,14 +179,14 @@ impl ScanCmd {
         let result = scan(&world, &spec, &pose, self.seed);
         if result.valid_count() == 0 {
             let range = format!(
-                "the sensor {} measures from {} to {} m",
+                "the sensor {} measures depths (camera z) from {} to {} m",
                 spec.name, spec.min_range, spec.max_range
             );
             return Err(CliError::Usage(
                 match nearest_surface(&world, &spec, &pose) {
                     Some(d) => format!(
                         "the scan holds no point: {range}, and the nearest surface in view is \
-                     {d:.3} m from the camera; move --look-at's eye"
+                     {d:.3} m deep; move --look-at's eye"
                     ),
                     None => format!(
                         "the scan holds no point: {range}, and no surface is in view; point \

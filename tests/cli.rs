@@ -347,7 +347,7 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
     std::fs::write(&cube, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     let bad_sensor = dir.path().join("bad.toml");
     let mut spec = toml::to_string(&sensor::SensorSpec::preset("ideal").unwrap()).unwrap();
-    spec = spec.replace("fx = 4060.0", "fx = -1.0");
+    spec = spec.replace("fx = 2481.0", "fx = -1.0");
     std::fs::write(&bad_sensor, spec).unwrap();
     let cube_s = cube.to_str().unwrap();
     let la = "0,0,-2,0,0,0";
@@ -891,7 +891,7 @@ fn empty_scans_and_samples_are_never_silent() {
                 "--out",
                 o_str,
             ],
-            "the sensor (kinect-v1) measures from 0.7 to 6 m, and the nearest surface in view is 0.5",
+            "the sensor (kinect-v1) measures depths (camera z) from 0.7 to 6 m, and the nearest surface in view is 0.5",
         ),
         (
             vec![
@@ -901,7 +901,7 @@ fn empty_scans_and_samples_are_never_silent() {
                 "--out",
                 o_str,
             ],
-            "measures from 0.35 to 1.1 m, and the nearest surface in view is 1.",
+            "measures depths (camera z) from 0.3 to 1.1 m, and the nearest surface in view is 1.",
         ),
         (
             vec![
@@ -915,8 +915,8 @@ fn empty_scans_and_samples_are_never_silent() {
                 "--out",
                 o_str,
             ],
-            "the scan holds no point: the sensor zivid-2plus-m130 measures from 0.8 to 2 m, and \
-             the nearest surface in view is 0.5",
+            "the scan holds no point: the sensor zivid-2plus-m130 measures depths (camera z) from 0.8 \
+             to 2 m, and the nearest surface in view is 0.5",
         ),
         (
             vec![

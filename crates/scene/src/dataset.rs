@@ -605,7 +605,7 @@ fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
     let sensor = &sample.sensor;
     let world = sensor::World::new(&sample.cell.targets(recipe.config.output.scheme));
     let range = format!(
-        "the sensor ({}) measures from {} to {} m",
+        "the sensor ({}) measures depths (camera z) from {} to {} m",
         sensor.name, sensor.min_range, sensor.max_range
     );
     let nearest = sample
@@ -616,7 +616,7 @@ fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
     let what = match nearest {
         None => format!("{range}, and no surface is in view; check camera"),
         Some(d) if d < sensor.min_range || d > sensor.max_range => format!(
-            "{range}, and the nearest surface in view is {d:.3} m from the camera; set \
+            "{range}, and the nearest surface in view is {d:.3} m deep; set \
              camera.distance (or sensor.preset) so that the motor lies in range"
         ),
         Some(d) => format!(

@@ -106,24 +106,93 @@ pub struct SensorSpec {
     /// Noise models.
     #[serde(default)]
     pub noise: Noise,
-    /// Nearest valid range, m.
+    /// Working range: the nearest surface depth (camera z) measured, m.
     pub min_range: f32,
-    /// Farthest valid range, m.
+    /// Working range: the farthest surface depth (camera z) measured, m.
     pub max_range: f32,
     /// Range at which a surface of reflectivity 1 facing the light has signal 1, m.
     pub reference_range: f32,
 }
 
 /// The preset names.
-pub const PRESETS: [&str; 7] = [
+pub const PRESETS: [&str; 12] = [
     "zivid-one-plus-m",
     "zivid-2-m70",
+    "zivid-2-l100",
     "zivid-2plus-m60",
     "zivid-2plus-m130",
+    "zivid-2plus-l110",
+    "zivid-2plus-mr60",
+    "zivid-2plus-mr130",
+    "zivid-2plus-lr110",
     "blensor-tof",
     "kinect-v1",
     "ideal",
 ];
+
+/// A Zivid 2 or 2+ as Zivid's own simulation describes it: the camera's focal length and
+/// full resolution (principal point at the centre), the projector `baseline` m along camera +x
+/// turned `toe` radians towards the camera's axis, and the projector's focal length and
+/// resolution in its (4×4-binned) pixels, which give its field.
+struct Zivid2 {
+    width: u32,
+    height: u32,
+    focal_px: f64,
+    baseline: f32,
+    toe: f32,
+    projector_focal_px: f32,
+    projector_size: [f32; 2],
+}
+
+impl Zivid2 {
+    fn intrinsics(&self) -> Intrinsics {
+        Intrinsics {
+            width: self.width,
+            height: self.height,
+            fx: self.focal_px,
+            fy: self.focal_px,
+            cx: f64::from(self.width / 2),
+            cy: f64::from(self.height / 2),
+            distortion: Distortion::default(),
+        }
+    }
+
+    fn projector(&self) -> Projector {
+        let field = |size: f32| 2.0 * (0.5 * size / self.projector_focal_px).atan().to_degrees();
+        Projector {
+            baseline: self.baseline,
+            convergence: self.baseline / self.toe.tan(),
+            hfov_deg: field(self.projector_size[0]),
+            vfov_deg: field(self.projector_size[1]),
+        }
+    }
+}
+
+/// Zivid 2 (1944×1200, projector 1280×720) with a lens of `focal_px`.
+fn zivid2(focal_px: f64, baseline_mm: f32, toe: f32, projector_focal_px: f32) -> Zivid2 {
+    Zivid2 {
+        width: 1944,
+        height: 1200,
+        focal_px,
+        baseline: baseline_mm * 1e-3,
+        toe,
+        projector_focal_px,
+        projector_size: [1280.0 / 4.0, 720.0 / 4.0],
+    }
+}
+
+/// Zivid 2+ (2448×2048, projector 1000×720) with a lens of `focal_px`.
+fn zivid2plus(focal_px: f64, baseline_mm: f32, toe: f32, projector_focal_px: f32) -> Zivid2 {
+    Zivid2 {
+        width: 2448,
+        height: 2048,
+        focal_px,
+        baseline: baseline_mm * 1e-3,
+        toe,
+        projector_focal_px,
+        projector_size: [1000.0 / 4.0, 720.0 / 4.0],
+    }
+}
 
 /// Zivid-like noise: σ proportional to range, growing at grazing incidence, low-signal and
 /// specular dropouts, wings at edges, a small per-scan bias.
@@ -165,22 +234,30 @@ impl SensorSpec {
     /// A preset by name (see [`PRESETS`]).
     ///
     /// Sources and assumptions:
-    /// - Resolutions and binning: Zivid's sampling and specification pages (One+ and 2:
-    ///   1920/1944×1200; 2+: 2448×2048).
+    /// - Zivid 2 and 2+ (M70, L100, M60, L110, M130 and the R line's MR60, LR110, MR130, which
+    ///   share the optics of M60, L110 and M130): Zivid's own simulation of its cameras,
+    ///   `zivid/zivid-isaac-sim` (`camera/camera_calibration.py`, `resolution.py`): the
+    ///   camera's focal length (M70 1785, L100 1784, M60 2481, L110 2479, M130 4028 px) with
+    ///   the principal point at the image centre and no distortion; the projector
+    ///   111.2-111.9 mm along camera +x, turned 0.069-0.113 rad about camera y towards the
+    ///   camera's axis, its focal length in 4×4-binned projector pixels (292, 292, 233, 232, 351)
+    ///   over 1280×720 (Zivid 2) or 1000×720 (2+) pixels, which gives its field. Zivid also
+    ///   places the projector 2.8-10.3 mm forward along camera z; this model keeps it in the
+    ///   camera's plane (at 0.6 m that changes a shadow's width by about 1 %).
+    /// - Working ranges: the recommended working distances in Zivid's sample
+    ///   `auto_2d_settings.py` (`zivid/zivid-python-samples`): M60 0.3-1.1 m, M70 0.3-1.3 m,
+    ///   L100 0.6-1.6 m, M130 0.8-2.0 m, L110 0.7-1.7 m (as its message states; the sample's own
+    ///   check uses 0.8-2.0 m). `reference_range` is the model's focus distance.
     /// - `zivid-one-plus-m`: factory intrinsics found in public ZividUtils code (fx 2776.6,
-    ///   cx 952.4, cy 597.9, k1 -0.28, k2 0.41, k3 -0.51).
-    /// - `zivid-2plus-m130`: "0.32 mm between pixels at 1300 mm" gives f = 4060 px; M60 is
-    ///   assumed to share the imager and lens. `zivid-2-m70`: f = 2390 px, assumed from a
-    ///   ~570 mm wide field at 700 mm.
-    /// - Baselines, convergence ranges and projector fields are not published: assumed
-    ///   (0.12-0.20 m baselines, convergence at the nominal working distance in the model name,
-    ///   projector fields a little wider than the camera's). Noise: σ ∝ range with 0.1 mm per m
-    ///   (One+ and 2: 0.15), assumed from the order of Zivid's point-precision figures.
+    ///   cx 952.4, cy 597.9, k1 -0.28, k2 0.41, k3 -0.51); its projector and range are assumed
+    ///   (0.15 m baseline, 45°×30°, 0.6-1.6 m).
+    /// - Noise: σ ∝ range with 0.1 mm per m (One+ and 2: 0.15), assumed from the order of
+    ///   Zivid's point-precision figures.
     /// - `blensor-tof`: Blensor's `tof` scanner as the MotorFactory datasets used it: 1280×960,
     ///   43.6°×34.6°, Gaussian range noise (0.6 mm, the middle of SynMotor's 0.2-1.2 mm).
     /// - `kinect-v1`: Blensor's `kinect` parameters: 640×480, 55.64°×43.18°, baseline 0.075 m,
     ///   0.7-6 m, 1/8 px disparity, 9×9 window; disparity noise 1/6 px as SimKinect (Handa 2014).
-    /// - `ideal`: the Zivid 2+ camera with no noise and no projector.
+    /// - `ideal`: the Zivid 2+ M60 camera with no noise and no projector.
     ///
     /// # Errors
     ///
@@ -191,24 +268,15 @@ impl SensorSpec {
     /// ```
     /// use sensor::{Model, SensorSpec};
     ///
-    /// let m130 = SensorSpec::preset("zivid-2plus-m130")?;
-    /// assert_eq!((m130.intrinsics.width, m130.intrinsics.height), (2448, 2048));
-    /// assert!(matches!(m130.model, Model::StructuredLight { .. }));
+    /// let m60 = SensorSpec::preset("zivid-2plus-m60")?;
+    /// assert_eq!((m60.intrinsics.width, m60.intrinsics.height), (2448, 2048));
+    /// assert!(matches!(m60.model, Model::StructuredLight { .. }));
     /// // 4×4 binning, as the default dataset uses it
-    /// assert_eq!(m130.intrinsics.binned(4).width, 612);
+    /// assert_eq!(m60.intrinsics.binned(4).width, 612);
     /// assert!(SensorSpec::preset("zivid-3").is_err());
     /// # Ok::<(), sensor::Error>(())
     /// ```
     pub fn preset(name: &str) -> Result<SensorSpec, Error> {
-        let zivid2plus = Intrinsics {
-            width: 2448,
-            height: 2048,
-            fx: 4060.0,
-            fy: 4060.0,
-            cx: 1223.5,
-            cy: 1023.5,
-            distortion: Distortion::default(),
-        };
         let spec =
             |name: &str, intrinsics, model, noise, range: (f32, f32), reference| SensorSpec {
                 name: name.into(),
@@ -219,12 +287,19 @@ impl SensorSpec {
                 max_range: range.1,
                 reference_range: reference,
             };
-        let projector = |baseline, convergence, hfov, vfov| Projector {
-            baseline,
-            convergence,
-            hfov_deg: hfov,
-            vfov_deg: vfov,
+        let zivid = |z: Zivid2, sigma_per_metre, range, focus| {
+            spec(
+                name,
+                z.intrinsics(),
+                structured(z.projector()),
+                zivid_noise(sigma_per_metre),
+                range,
+                focus,
+            )
         };
+        let m60 = || zivid2plus(2481.0, 111.2, 0.085, 233.0);
+        let m130 = || zivid2plus(4028.0, 111.9, 0.069, 351.0);
+        let l110 = || zivid2plus(2479.0, 111.6, 0.087, 232.0);
         Ok(match name {
             "zivid-one-plus-m" => spec(
                 name,
@@ -243,43 +318,21 @@ impl SensorSpec {
                         p2: 0.0,
                     },
                 },
-                structured(projector(0.15, 1.0, 45.0, 30.0)),
+                structured(Projector {
+                    baseline: 0.15,
+                    convergence: 1.0,
+                    hfov_deg: 45.0,
+                    vfov_deg: 30.0,
+                }),
                 zivid_noise(1.5e-4),
                 (0.6, 1.6),
                 1.0,
             ),
-            "zivid-2-m70" => spec(
-                name,
-                Intrinsics {
-                    width: 1944,
-                    height: 1200,
-                    fx: 2390.0,
-                    fy: 2390.0,
-                    cx: 971.5,
-                    cy: 599.5,
-                    distortion: Distortion::default(),
-                },
-                structured(projector(0.12, 0.7, 48.0, 32.0)),
-                zivid_noise(1.5e-4),
-                (0.3, 1.1),
-                0.7,
-            ),
-            "zivid-2plus-m60" => spec(
-                name,
-                zivid2plus,
-                structured(projector(0.12, 0.6, 38.0, 33.0)),
-                zivid_noise(1e-4),
-                (0.35, 1.1),
-                0.6,
-            ),
-            "zivid-2plus-m130" => spec(
-                name,
-                zivid2plus,
-                structured(projector(0.2, 1.3, 38.0, 33.0)),
-                zivid_noise(1e-4),
-                (0.8, 2.0),
-                1.3,
-            ),
+            "zivid-2-m70" => zivid(zivid2(1785.0, 111.2, 0.113, 292.0), 1.5e-4, (0.3, 1.3), 0.7),
+            "zivid-2-l100" => zivid(zivid2(1784.0, 111.3, 0.112, 292.0), 1.5e-4, (0.6, 1.6), 1.0),
+            "zivid-2plus-m60" | "zivid-2plus-mr60" => zivid(m60(), 1e-4, (0.3, 1.1), 0.6),
+            "zivid-2plus-m130" | "zivid-2plus-mr130" => zivid(m130(), 1e-4, (0.8, 2.0), 1.3),
+            "zivid-2plus-l110" | "zivid-2plus-lr110" => zivid(l110(), 1e-4, (0.7, 1.7), 1.1),
             "blensor-tof" => spec(
                 name,
                 Intrinsics::from_fov(1280, 960, 43.6, 34.6),
@@ -298,7 +351,12 @@ impl SensorSpec {
                 name,
                 Intrinsics::from_fov(640, 480, 55.64, 43.18),
                 Model::Kinect {
-                    projector: projector(0.075, 2.0, 60.0, 47.0),
+                    projector: Projector {
+                        baseline: 0.075,
+                        convergence: 2.0,
+                        hfov_deg: 60.0,
+                        vfov_deg: 47.0,
+                    },
                     disparity_sigma_px: 1.0 / 6.0,
                     subpixel: 8.0,
                     window: 9,
@@ -311,7 +369,7 @@ impl SensorSpec {
             ),
             "ideal" => spec(
                 name,
-                zivid2plus,
+                m60().intrinsics(),
                 Model::Ideal,
                 Noise::default(),
                 (0.0, 100.0),
@@ -319,6 +377,20 @@ impl SensorSpec {
             ),
             other => return Err(Error::UnknownPreset(other.into())),
         })
+    }
+
+    /// Whether a surface at camera depth `z` (m) lies in the working range, both ends included
+    /// (within a millionth, so that a surface placed exactly at a limit counts).
+    #[inline]
+    pub fn in_range(&self, z: f32) -> bool {
+        z >= self.min_range * (1.0 - 1e-6) && z <= self.max_range * (1.0 + 1e-6)
+    }
+
+    /// The length up to which a ray in camera direction `dir` (unit) must be cast to meet
+    /// every surface in the working range.
+    #[inline]
+    pub fn reach(&self, dir: Vec3) -> f32 {
+        self.max_range * (1.0 + 1e-5) / dir.z.max(1e-6)
     }
 
     /// The projector, for models that have one.

@@ -189,8 +189,8 @@ impl World {
     }
 
     /// The world prepared to be cut in the epipolar planes of a pinhole camera's rows `rows`
-    /// (see [`crate::epipolar`]), taken `band_rows` at a time, for rays that reach no farther
-    /// than `max_range` and a projector at `baseline` m along camera +x.
+    /// (see [`crate::epipolar`]), taken `band_rows` at a time, for surfaces no deeper
+    /// than `max_depth` and a projector at `baseline` m along camera +x.
     pub(crate) fn epipolar(
         &self,
         k: &Intrinsics,
@@ -198,7 +198,7 @@ impl World {
         baseline: f32,
         rows: Range<usize>,
         band_rows: usize,
-        max_range: f32,
+        max_depth: f32,
     ) -> Epipolar {
         Epipolar::new(
             self.bvh.slots(),
@@ -207,7 +207,7 @@ impl World {
             baseline,
             rows,
             band_rows,
-            max_range,
+            max_depth,
         )
     }
 

@@ -39,8 +39,8 @@ pub(crate) struct Epipolar {
     xs: Vec<f64>,
     fy: f64,
     cy: f64,
-    /// Rays reach no farther than this, m.
-    max_range: f64,
+    /// Surfaces deeper than this (camera z, m) are not met.
+    max_depth: f64,
     /// Rows per band, and the band of the first row cut.
     band_rows: usize,
     first_band: usize,
@@ -61,7 +61,7 @@ pub(crate) struct Ray {
 impl Epipolar {
     /// Prepares to cut `tris` (world frame, by BVH slot) seen by the pinhole camera `k` from
     /// the camera-to-world `pose`, in the rows `rows` taken `band_rows` at a time from row 0,
-    /// for rays that reach no farther than `max_range` and a projector at `baseline`.
+    /// for surfaces no deeper than `max_depth` (camera z) and a projector at `baseline`.
     pub(crate) fn new(
         tris: &[[Vec3; 3]],
         pose: &Affine3A,
@@ -69,7 +69,7 @@ impl Epipolar {
         baseline: f32,
         rows: Range<usize>,
         band_rows: usize,
-        max_range: f32,
+        max_depth: f32,
     ) -> Epipolar {
         let to_camera = pose.inverse();
         let tris: Vec<[Vec3; 3]> = tris
@@ -83,7 +83,7 @@ impl Epipolar {
             .par_iter()
             .map(|t| {
                 let z = t.map(|v| v.z as f64);
-                if z.iter().all(|&z| z <= NEAR) || z.iter().all(|&z| z >= max_range as f64) {
+                if z.iter().all(|&z| z <= NEAR) || z.iter().all(|&z| z >= max_depth as f64) {
                     return 0..0; // behind the camera, or beyond every ray's reach
                 }
                 let row_span = if z.iter().any(|&z| z <= NEAR) {
@@ -114,7 +114,7 @@ impl Epipolar {
             xs: (0..k.width).map(|c| (c as f64 - k.cx) / k.fx).collect(),
             fy: k.fy,
             cy: k.cy,
-            max_range: max_range as f64,
+            max_depth: max_depth as f64,
             band_rows,
             first_band,
             starts,
@@ -153,7 +153,7 @@ impl Epipolar {
         } = row_cut;
         // inverse depths: nearer is larger; nothing beyond the reach counts
         depth.clear();
-        depth.resize(cols.len(), ((1.0 / self.max_range).to_bits(), u32::MAX));
+        depth.resize(cols.len(), ((1.0 / self.max_depth).to_bits(), u32::MAX));
         let column = |x: f64| x * self.fx + self.cx;
         let (first, end) = (cols.start as f64, cols.end as f64);
         for (i, s) in segments.iter().enumerate() {
@@ -185,8 +185,7 @@ impl Epipolar {
                 .zip(depth.iter())
                 .map(|(&x, &(w, i))| {
                     let t = (1.0 + x * x + y * y).sqrt() / f64::from_bits(w);
-                    (i != u32::MAX && t < self.max_range)
-                        .then(|| (segments[i as usize].slot, t as f32))
+                    (i != u32::MAX).then(|| (segments[i as usize].slot, t as f32))
                 }),
         );
     }

@@ -78,7 +78,8 @@ impl<'a> Capture<'a> {
         let pinhole = k.distortion.is_none();
         let path = if pinhole && 3 * cols.len() * band_rows.len() >= world.triangle_count() {
             let baseline = sensor.projector().map_or(0.0, |p| p.baseline);
-            let epipolar = world.epipolar(k, pose, baseline, band_rows, BLOCK, sensor.max_range);
+            let far = sensor.max_range * (1.0 + 1e-5);
+            let epipolar = world.epipolar(k, pose, baseline, band_rows, BLOCK, far);
             Path::Rows(epipolar)
         } else {
             Path::Blocks
@@ -236,7 +237,7 @@ impl<'a> Capture<'a> {
                 if self.casts(dir) {
                     at[g][lane] = Some((c, r));
                     (centres[g][lane], dirs[g][lane]) = (centre, dir);
-                    t_max[g][lane] = self.sensor.max_range;
+                    t_max[g][lane] = self.sensor.reach(centre);
                 }
             }
             if at.iter().flatten().all(Option::is_none) {

@@ -1,5 +1,5 @@
-//! A lit pixel measured as a point: where it samples, range noise, disparity, bias,
-//! quantization and range limits; and the effects of neighbours (mixed pixels, the Kinect window).
+//! A lit pixel measured as a point: where it samples, the working range, range noise,
+//! disparity, bias and quantization; and the effects of neighbours (mixed pixels, the Kinect window).
 
 use std::ops::Range;
 
@@ -27,8 +27,8 @@ fn round(x: f32) -> f32 {
 }
 
 /// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
-/// where it samples (its centre, or a laterally jittered position), range noise,
-/// quantisation and the range limits.
+/// where it samples (its centre, or a laterally jittered position), whether that surface
+/// lies in the working range, range noise and quantisation.
 pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     let Capture {
         sensor,
@@ -66,7 +66,9 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     } else {
         (centre, t)
     };
-    if range.is_nan() || range < sensor.min_range {
+    // the working range bounds the surface's depth (camera z) before noise, so that noise
+    // near a limit is not cut off
+    if !sensor.in_range(range * dir.z) {
         return;
     }
     let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
@@ -93,7 +95,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     if noise.quantization > 0.0 {
         range = round(range / noise.quantization) * noise.quantization;
     }
-    if !(sensor.min_range..=sensor.max_range).contains(&range) {
+    if range.is_nan() || range <= 0.0 {
         return;
     }
     px.intensity = signal;

@@ -106,8 +106,8 @@ pub fn scan(world: &World, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
     scan_pixels(world, sensor, pose, seed, None, Vec::new())
 }
 
-/// The distance to the nearest surface that a sparse grid of the camera's rays (every 8th pixel
-/// of every 8th row, and the last) meets at any range; None when they meet nothing. It tells a
+/// The depth (camera z) of the nearest surface that a sparse grid of the camera's rays (every
+/// 8th pixel of every 8th row, and the last) meets at any range; None when they meet nothing. It tells a
 /// user whose scan came out empty how far the scene really is.
 ///
 /// # Example
@@ -132,8 +132,9 @@ pub fn nearest_surface(world: &World, sensor: &SensorSpec, pose: &Affine3A) -> O
     along(k.height)
         .flat_map(|v| along(k.width).map(move |u| (u, v)))
         .filter_map(|(u, v)| {
-            let dir = pose.transform_vector3(k.ray(f64::from(u), f64::from(v)));
-            world.cast(origin, dir, f32::INFINITY).map(|h| h.t)
+            let ray = k.ray(f64::from(u), f64::from(v));
+            let dir = pose.transform_vector3(ray);
+            world.cast(origin, dir, f32::INFINITY).map(|h| h.t * ray.z)
         })
         .min_by(f32::total_cmp)
 }

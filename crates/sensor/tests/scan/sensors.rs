@@ -1,6 +1,9 @@
-//! Sensor specifications: presets, refused intrinsics, binning.
+//! Sensor specifications: presets against Zivid's calibration, the working range on camera z,
+//! refused intrinsics, binning.
 
 use ::sensor::*;
+
+use glam::{Affine3A, Vec3};
 
 use crate::kit::*;
 
@@ -64,4 +67,104 @@ fn binning_keeps_the_field_of_view() {
         let d0 = k.ray((f as f64 - 1.0) / 2.0, (f as f64 - 1.0) / 2.0);
         assert!((b.ray(0.0, 0.0) - d0).length() < 1e-6);
     }
+}
+
+/// Zivid's numbers for each preset, from its own simulation (`zivid/zivid-isaac-sim`) as the
+/// sensor facts (§7) tabulate them, written out here apart from the presets: the field at the
+/// focus distance (mm), the focus distance (mm), the camera-to-projector distance along x (mm)
+/// and the projector's turn towards the camera's axis (rad).
+const ZIVID: [(&str, [f64; 2], f64, f64, f64); 8] = [
+    ("zivid-2plus-m60", [592.0, 495.0], 600.0, 111.2, 0.085),
+    ("zivid-2plus-mr60", [592.0, 495.0], 600.0, 111.2, 0.085),
+    ("zivid-2plus-m130", [790.0, 661.0], 1300.0, 111.9, 0.069),
+    ("zivid-2plus-mr130", [790.0, 661.0], 1300.0, 111.9, 0.069),
+    ("zivid-2plus-l110", [1086.0, 909.0], 1100.0, 111.6, 0.087),
+    ("zivid-2plus-lr110", [1086.0, 909.0], 1100.0, 111.6, 0.087),
+    ("zivid-2-m70", [762.0, 471.0], 700.0, 111.2, 0.113),
+    // L100: fx 1784 over 1944×1200 at 1000 mm
+    ("zivid-2-l100", [1089.7, 672.6], 1000.0, 111.3, 0.112),
+];
+
+#[test]
+fn zivid_presets_see_the_field_zivid_calibrated() {
+    for (name, field, focus, baseline, toe) in ZIVID {
+        let s = SensorSpec::preset(name).unwrap();
+        let k = s.intrinsics;
+        // the field at the focus distance, from the image's two edges
+        let at = |u: f64, v: f64| k.ray(u, v) * (focus / k.ray(u, v).z as f64) as f32;
+        let width = (at(k.width as f64 - 0.5, k.cy) - at(-0.5, k.cy)).x as f64;
+        let height = (at(k.cx, k.height as f64 - 0.5) - at(k.cx, -0.5)).y as f64;
+        assert!(
+            (width / field[0] - 1.0).abs() < 0.01,
+            "{name}: {width} mm wide"
+        );
+        assert!(
+            (height / field[1] - 1.0).abs() < 0.01,
+            "{name}: {height} mm high"
+        );
+        // the projector where Zivid puts it, turned as Zivid turns it
+        let p = s.projector().unwrap();
+        assert!((p.baseline as f64 * 1e3 - baseline).abs() < 1e-3, "{name}");
+        let turn = (p.baseline / p.convergence).atan() as f64;
+        assert!((turn - toe).abs() < 1e-6, "{name}: turned {turn} rad");
+        // the working range holds the focus distance
+        let focus_m = (focus * 1e-3) as f32;
+        assert!(s.min_range < focus_m && focus_m < s.max_range, "{name}");
+    }
+}
+
+/// The working range bounds depth (camera z), not the length of a pixel's ray: a plane at
+/// either limit is measured in every pixel, corners too, and its noise is not cut off there.
+#[test]
+fn the_working_range_is_on_camera_z() {
+    let k = small_camera(120, 100, 100.0); // a wide field: corner rays 1.5 times the centre's
+    let noise = Noise {
+        axial: noise::Axial {
+            sigma: 2e-3,
+            ..noise::Axial::default()
+        },
+        ..Noise::default()
+    };
+    let camera = SensorSpec {
+        model: Model::TimeOfFlight,
+        noise,
+        min_range: 0.5,
+        max_range: 1.0,
+        ..ideal(k)
+    };
+    let pixels = (k.width * k.height) as usize;
+    for (z, seen) in [(0.5, pixels), (1.0, pixels), (0.499, 0), (1.001, 0)] {
+        let s = scan(
+            &World::new(&[facing_plane(z)]),
+            &camera,
+            &Affine3A::IDENTITY,
+            1,
+        );
+        assert_eq!(s.valid_count(), seen, "plane at {z} m");
+        if seen > 0 {
+            // noise on both sides of the limit, as much beyond it as within
+            let depth: Vec<f64> = s
+                .pixels
+                .iter()
+                .filter(|p| p.is_valid())
+                .map(|p| (p.point.z - z) as f64)
+                .collect();
+            let beyond = depth.iter().filter(|d| (**d > 0.0) == (z > 0.75)).count();
+            let share = beyond as f64 / depth.len() as f64;
+            assert!(
+                (share - 0.5).abs() < 0.05,
+                "plane at {z} m: {share} beyond the limit"
+            );
+        }
+    }
+    // what the camera reports of a scene out of range: its depth, not a ray's length
+    let corner_only = World::new(&[quad(
+        Vec3::new(0.55, 0.45, 1.2),
+        Vec3::X * 0.05,
+        Vec3::Y * 0.05,
+        1,
+        1,
+    )]);
+    let d = nearest_surface(&corner_only, &camera, &Affine3A::IDENTITY).unwrap();
+    assert!((d - 1.2).abs() < 1e-4, "{d}");
 }
