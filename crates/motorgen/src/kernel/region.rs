@@ -47,8 +47,8 @@ impl Region {
 
     /// The region extruded from `z0` to `z1`: a closed shell for each of its connected pieces.
     /// Corners closer than a ten-thousandth of the region's size to their neighbours' line
-    /// and pieces smaller than a millionth of its size squared (slivers a boolean leaves) are
-    /// dropped first, so that no face degenerates; where a hole touches the outline, or two
+    /// and pieces or holes smaller than a millionth of its size squared (slivers a boolean
+    /// leaves) are dropped first, so that no face degenerates; where a hole touches the outline, or two
     /// pieces touch, closer than that, the pinch is opened.
     pub fn extrude(&self, z0: f32, z1: f32) -> Mesh {
         let b = self.0.bounds();
@@ -74,6 +74,9 @@ impl Region {
             simple = open(&open(&simple, -tolerance), tolerance).simplify(tolerance);
             all = contours(&simple);
         }
+        // a sliver a boolean leaves, piece or hole (a millionth of the size squared), is none
+        let sliver = |l: &Vec<Vec2>| f64::from(0.5 * signed_area2(l).abs()) < 1e-6 * size * size;
+        all.retain(|l| !sliver(l));
         // one outer contour: one piece, without asking Clipper2 to split it
         let pieces = if all.iter().filter(|l| signed_area2(l) > 0.0).count() == 1 {
             vec![all]
@@ -81,7 +84,7 @@ impl Region {
             simple.decompose().iter().map(contours).collect()
         };
         for mut loops in pieces {
-            // a sliver a boolean leaves (a millionth of the size squared) is no plate
+            loops.retain(|l| !sliver(l));
             let area: f32 = 0.5 * loops.iter().map(|l| signed_area2(l)).sum::<f32>();
             if (area as f64) < 1e-6 * size * size {
                 continue;
