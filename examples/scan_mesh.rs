@@ -31,7 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scan = scan(&world, &sensor, &pose, 0);
     let cloud = scan.cloud(false, Frame::Camera, Units::Metres);
     let mut file = std::io::BufWriter::new(std::fs::File::create(out)?);
-    CloudFormat::Ply.write(&mut file, &cloud, &[])?;
+    CloudFormat::Ply.write(&mut file, &cloud)?;
     println!(
         "{} points of {} triangles seen by {preset}, written to {out}",
         cloud.len(),

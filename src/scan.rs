@@ -5,7 +5,6 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::Vec3;
-use motorgen::Scheme;
 use motorgen::export::write_atomic;
 use sensor::formats::*;
 use sensor::{Frame, SensorSpec, Units, World, look_at, nearest_surface, scan};
@@ -202,12 +201,11 @@ impl ScanCmd {
             ))
         })?;
         let cloud = result.cloud(false, frame, units);
-        let palette: Vec<[u8; 3]> = Scheme::SynMotor.classes().iter().map(|c| c.color).collect();
         let save = |name: &str, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| {
             write_atomic(&self.out.join(name), body).map_err(|e| CliError::Runtime(e.to_string()))
         };
         for f in &formats {
-            save(&f.file_name("cloud"), &|w| f.write(w, &cloud, &palette))?;
+            save(&f.file_name("cloud"), &|w| f.write(w, &cloud))?;
         }
         if self.images {
             for (name, image) in IMAGES {

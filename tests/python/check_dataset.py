@@ -41,11 +41,13 @@ def main(root, n):
         seen += np.bincount(label, minlength=len(classes))
         check(f"{tag} class counts", list(np.bincount(label, minlength=len(classes))) == r["class_counts"])
         npz = np.load(f"{root}/{files['.npz']}")
-        check(f"{tag} npz equals npy", np.array_equal(npz["xyz"], table[:, :3]) and np.array_equal(npz["label"], label))
+        check(f"{tag} npz equals npy", np.array_equal(npz["xyz"], table[:, :3]) and np.array_equal(npz["label"], label)
+              and np.allclose(npz["rgb"] / 255.0, table[:, 3:6], atol=1e-6))
         for ext in [".ply", ".pcd"]:
             pc = o3d.io.read_point_cloud(f"{root}/{files[ext]}")
             pts = np.asarray(pc.points)
             check(f"{tag} open3d {ext}", pts.shape == (count, 3) and np.allclose(pts, table[:, :3], atol=1e-6), pts.shape)
+            check(f"{tag} open3d {ext} colours", np.allclose(np.asarray(pc.colors), table[:, 3:6], atol=1e-6))
         # every point inside the crop box (world), up to the jitter after cropping
         pose = np.array(doc["views"][0]["camera_to_world"], np.float64)
         world = table[:, :3].astype(np.float64) @ pose[:3, :3].T + pose[:3, 3]

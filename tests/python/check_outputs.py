@@ -24,7 +24,11 @@ def main(scan_dir, motor_dir):
     check("npy colours in 0..1", table[:, 3:6].min() >= 0 and table[:, 3:6].max() <= 1)
 
     npz = np.load(f"{scan_dir}/cloud.npz")
-    check("npz arrays", sorted(npz.files) == ["instance", "intensity", "label", "normal", "xyz"], npz.files)
+    check("npz arrays", sorted(npz.files) == ["instance", "intensity", "label", "normal", "rgb", "xyz"], npz.files)
+    rgb = npz["rgb"]
+    check("npz rgb N x 3 uint8", rgb.shape == (n, 3) and rgb.dtype == np.uint8, (rgb.shape, rgb.dtype))
+    check("npy colours are the npz rgb", np.allclose(table[:, 3:6], rgb / 255.0, atol=1e-6))
+    check("colours vary within a class", len(np.unique(rgb[labels == labels[0]], axis=0)) > 10)
     check("npz xyz equals npy xyz", np.array_equal(npz["xyz"], xyz))
     check("npz labels", np.array_equal(npz["label"].astype(np.float32), labels) and npz["label"].dtype == np.uint16)
     check("npz normals are unit", np.allclose(np.linalg.norm(npz["normal"], axis=1), 1, atol=1e-4))
@@ -36,6 +40,7 @@ def main(scan_dir, motor_dir):
         check(f"open3d {name} count", len(pts) == n, f"{len(pts)} vs {n}")
         check(f"open3d {name} points", len(pts) == n and np.allclose(pts, xyz, atol=1e-5))
         check(f"open3d {name} normals", pc.has_normals() and np.allclose(np.asarray(pc.normals), npz["normal"], atol=1e-5))
+        check(f"open3d {name} colours", pc.has_colors() and np.allclose(np.asarray(pc.colors), rgb / 255.0, atol=1e-6))
 
     depth = np.load(f"{scan_dir}/depth.npy")
     h, w = summary["pixels"]["height"], summary["pixels"]["width"]

@@ -243,36 +243,48 @@ impl Cell {
     }
 }
 
-const fn mat(reflectivity: f32, specular: f32, lobe: f32) -> Material {
+const fn mat(reflectivity: f32, specular: f32, lobe: f32, colour: [f32; 3]) -> Material {
     Material {
         reflectivity,
         specular,
         lobe,
+        colour,
     }
 }
 
+/// A neutral colour of albedo `a`.
+const fn grey(a: f32) -> [f32; 3] {
+    [a, a, a]
+}
+
 /// Light grey table top.
-const TABLE: Material = mat(0.55, 0.0, 0.2);
+const TABLE: Material = mat(0.55, 0.0, 0.2, grey(0.55));
 /// Matte grey mask panel.
-const PANEL: Material = mat(0.5, 0.0, 0.2);
+const PANEL: Material = mat(0.5, 0.0, 0.2, grey(0.5));
 /// White base plate.
-pub(crate) const PLATE_MATERIAL: Material = mat(0.8, 0.05, 0.3);
+pub(crate) const PLATE_MATERIAL: Material = mat(0.8, 0.05, 0.3, grey(0.8));
 /// Blue anodised jaws.
-pub(crate) const JAW: Material = mat(0.3, 0.1, 0.25);
+pub(crate) const JAW: Material = mat(0.3, 0.1, 0.25, [0.06, 0.16, 0.45]);
 /// Brushed aluminium (pillar, cylinder).
-pub(crate) const ALUMINIUM: Material = mat(0.6, 0.4, 0.15);
+pub(crate) const ALUMINIUM: Material = mat(0.6, 0.4, 0.15, [0.6, 0.6, 0.62]);
+/// Black glass-filled plastic (PA66) of the gear container and the cover: one material, so
+/// that colour does not tell the two apart.
+const BLACK_PLASTIC: Material = mat(0.12, 0.15, 0.3, grey(0.12));
 
 /// The sensor material of a motor part, from the add-on's colours and metalness: polished
-/// steel pole pot and bolt heads are specular, black plastic is dark.
+/// steel pole pot and zinc-plated bolts are specular, black plastic is dark, the armature's
+/// windings copper.
 pub fn material(kind: PartKind) -> Material {
     match kind {
-        PartKind::PolePot => mat(0.45, 0.6, 0.15),
-        PartKind::SideBolt | PartKind::CoverBolt => mat(0.7, 0.8, 0.1),
-        PartKind::GearContainer | PartKind::Cover => mat(0.12, 0.15, 0.3),
-        PartKind::ElectricConnection => mat(0.6, 0.0, 0.2),
-        PartKind::Magnet => mat(0.1, 0.0, 0.2),
-        PartKind::Armature => mat(0.5, 0.5, 0.2),
-        PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => mat(0.8, 0.05, 0.3),
+        PartKind::PolePot => mat(0.45, 0.6, 0.15, [0.45, 0.45, 0.47]),
+        PartKind::SideBolt | PartKind::CoverBolt => mat(0.7, 0.8, 0.1, [0.7, 0.7, 0.72]),
+        PartKind::GearContainer | PartKind::Cover => BLACK_PLASTIC,
+        PartKind::ElectricConnection => mat(0.6, 0.0, 0.2, grey(0.6)),
+        PartKind::Magnet => mat(0.1, 0.0, 0.2, grey(0.1)),
+        PartKind::Armature => mat(0.5, 0.5, 0.2, [0.66, 0.42, 0.26]),
+        PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => {
+            mat(0.8, 0.05, 0.3, [0.8, 0.8, 0.78])
+        }
     }
 }
 

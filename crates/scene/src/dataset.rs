@@ -8,6 +8,7 @@
 //! - `manifest.jsonl` (`manifest-{i}-of-{n}.jsonl` for shard i of n): one row per finished
 //!   sample, sorted by index when the run ends.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
@@ -16,10 +17,11 @@ use std::sync::{Arc, Mutex};
 use motorgen::Scheme;
 use motorgen::export::write_atomic;
 use rayon::prelude::*;
+use sensor::PointCloud;
 use serde::{Deserialize, Serialize};
 
 use crate::claim::Claim;
-use crate::config::{Combinations, Config, set_key};
+use crate::config::{Colouring, Combinations, Config, set_key};
 use crate::error::{Error, Result};
 use crate::sample::{Recipe, Sample, make};
 
@@ -482,7 +484,7 @@ impl Dataset {
             };
             for f in &out.formats {
                 put(f.file_name(&view_stem), &|w| {
-                    f.write(w, &view.cloud, &palette)
+                    f.write(w, &coloured(&view.cloud, out.colour, &palette))
                 })?;
             }
             if let Some(cloud) = &view.scene_cloud {
@@ -492,7 +494,7 @@ impl Dataset {
                     .copied()
                     .unwrap_or(sensor::formats::CloudFormat::Ply);
                 put(f.file_name(&format!("{view_stem}_scene")), &|w| {
-                    f.write(w, cloud, &palette)
+                    f.write(w, &coloured(cloud, out.colour, &palette))
                 })?;
             }
             if let Some(scan) = &view.scan {
@@ -598,6 +600,26 @@ fn read_all_rows(out: &Path) -> Result<BTreeMap<u64, Row>> {
         }
     }
     Ok(rows)
+}
+
+/// `cloud` with the rgb `colour` asks for: the camera's, or the class colours of `palette`
+/// (grey beyond it).
+fn coloured<'a>(
+    cloud: &'a PointCloud,
+    colour: Colouring,
+    palette: &[[u8; 3]],
+) -> Cow<'a, PointCloud> {
+    match colour {
+        Colouring::Camera => Cow::Borrowed(cloud),
+        Colouring::Class => Cow::Owned(PointCloud {
+            rgb: cloud
+                .class
+                .iter()
+                .map(|&c| palette.get(c as usize).copied().unwrap_or([128; 3]))
+                .collect(),
+            ..cloud.clone()
+        }),
+    }
 }
 
 /// Why `sample` holds no point: the sensor's range against the nearest surface in view.

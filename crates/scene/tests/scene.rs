@@ -268,3 +268,65 @@ fn a_sample_json_reads_back_as_written() {
         at("cover_removed") < at("crop") && at("sensor") < at("split") && at("units") < at("views")
     );
 }
+
+/// The default dataset's colours come from the camera, not the labels: the gear container and
+/// the cover share a plastic, so their rgb tells them apart no better than chance would, and
+/// every class shows many colours.
+#[test]
+fn colour_does_not_give_the_label_away() {
+    let table = scene::config::builtin_table("default").unwrap();
+    let out = std::env::temp_dir().join("never-written");
+    let dataset = scene::Dataset::new(table, None, None, scene::Shard::ALL, &out).unwrap();
+    let recipe = dataset.recipe(0).unwrap();
+    let scheme = recipe.config.output.scheme;
+    let (container, cover) = (
+        scheme.id(motorgen::PartKind::GearContainer) as u16,
+        scheme.id(motorgen::PartKind::Cover) as u16,
+    );
+    let (mut right, mut total) = (0usize, 0usize);
+    for index in 0..4 {
+        let sample = scene::make(&recipe, index).unwrap();
+        let cloud = &sample.views[0].cloud;
+        let colours = |class: u16| -> Vec<[f32; 3]> {
+            (0..cloud.len())
+                .filter(|&i| cloud.class[i] == class)
+                .map(|i| cloud.rgb[i].map(f32::from))
+                .collect()
+        };
+        let (a, b) = (colours(container), colours(cover));
+        if a.len() < 100 || b.len() < 100 {
+            continue;
+        }
+        let mean = |v: &[[f32; 3]]| {
+            let n = v.len() as f32;
+            [0, 1, 2].map(|c| v.iter().map(|p| p[c]).sum::<f32>() / n)
+        };
+        let (ma, mb) = (mean(&a), mean(&b));
+        let nearer_a = |p: &[f32; 3]| {
+            let d = |m: [f32; 3]| (0..3).map(|c| (p[c] - m[c]).powi(2)).sum::<f32>();
+            d(ma) < d(mb)
+        };
+        // the best a nearest-mean rule on colour does, each class weighed alike
+        let hit_a = a.iter().filter(|p| nearer_a(p)).count() as f64 / a.len() as f64;
+        let hit_b = b.iter().filter(|p| !nearer_a(p)).count() as f64 / b.len() as f64;
+        right += ((hit_a + hit_b) * 500.0) as usize;
+        total += 1000;
+        // no class has a single colour
+        let distinct = |v: &[[f32; 3]]| {
+            let mut keys: Vec<[u32; 3]> = v.iter().map(|p| p.map(|x| x as u32)).collect();
+            keys.sort_unstable();
+            keys.dedup();
+            keys.len()
+        };
+        assert!(distinct(&a) > 20 && distinct(&b) > 20);
+    }
+    assert!(
+        total > 0,
+        "no sample showed both the gear container and the cover"
+    );
+    let accuracy = right as f64 / total as f64;
+    assert!(
+        accuracy < 0.7,
+        "colour tells container from cover {accuracy}"
+    );
+}

@@ -60,6 +60,8 @@ pub struct PointCloud {
     pub normal: Vec<Vec3>,
     /// Signal strength.
     pub intensity: Vec<f32>,
+    /// Colour, 8-bit sRGB.
+    pub rgb: Vec<[u8; 3]>,
     /// Semantic class.
     pub class: Vec<u16>,
     /// Instance id.
@@ -146,6 +148,7 @@ impl PointCloud {
             xyz: column(n, Vec3::ZERO),
             normal: column(n, Vec3::ZERO),
             intensity: column(n, 0.0),
+            rgb: column(n, [0; 3]),
             class: column(n, 0),
             instance: column(n, 0),
         }
@@ -157,6 +160,7 @@ struct Columns<'a> {
     xyz: &'a mut [Vec3],
     normal: &'a mut [Vec3],
     intensity: &'a mut [f32],
+    rgb: &'a mut [[u8; 3]],
     class: &'a mut [u16],
     instance: &'a mut [u32],
 }
@@ -167,6 +171,7 @@ impl<'a> Columns<'a> {
             xyz: &mut c.xyz,
             normal: &mut c.normal,
             intensity: &mut c.intensity,
+            rgb: &mut c.rgb,
             class: &mut c.class,
             instance: &mut c.instance,
         }
@@ -177,6 +182,7 @@ impl<'a> Columns<'a> {
         let (xyz, xyz_rest) = self.xyz.split_at_mut(n);
         let (normal, normal_rest) = self.normal.split_at_mut(n);
         let (intensity, intensity_rest) = self.intensity.split_at_mut(n);
+        let (rgb, rgb_rest) = self.rgb.split_at_mut(n);
         let (class, class_rest) = self.class.split_at_mut(n);
         let (instance, instance_rest) = self.instance.split_at_mut(n);
         (
@@ -184,6 +190,7 @@ impl<'a> Columns<'a> {
                 xyz,
                 normal,
                 intensity,
+                rgb,
                 class,
                 instance,
             },
@@ -191,6 +198,7 @@ impl<'a> Columns<'a> {
                 xyz: xyz_rest,
                 normal: normal_rest,
                 intensity: intensity_rest,
+                rgb: rgb_rest,
                 class: class_rest,
                 instance: instance_rest,
             },
@@ -203,6 +211,7 @@ impl<'a> Columns<'a> {
         self.xyz[k] = q;
         self.normal[k] = p.normal;
         self.intensity[k] = p.intensity;
+        self.rgb[k] = p.rgb;
         self.class[k] = p.class;
         self.instance[k] = p.instance;
     }

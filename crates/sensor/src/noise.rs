@@ -105,6 +105,8 @@ pub mod stream {
     pub const DISPARITY: u64 = 10;
     /// Per-scan bias (drawn once, from the pixel index `u64::MAX`).
     pub const BIAS: u64 = 12;
+    /// Colour noise (one draw for the three channels).
+    pub const COLOUR: u64 = 14;
 }
 
 /// All noise models of a sensor. Each is off at its default.

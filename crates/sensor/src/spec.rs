@@ -112,6 +112,34 @@ pub struct SensorSpec {
     pub max_range: f32,
     /// Range at which a surface of reflectivity 1 facing the light has signal 1, m.
     pub reference_range: f32,
+    /// The colour image the points take their rgb from.
+    #[serde(default)]
+    pub colour: ColourCamera,
+}
+
+/// The camera's colour image, as each point's rgb: the surface's albedo × (the projector's
+/// light, as the signal has it without the reflectivity, × `exposure` + `ambient`), noise of
+/// standard deviation `noise` on each channel, then encoded as 8-bit sRGB.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ColourCamera {
+    /// Linear value of a white surface facing the projector at the reference range, less the
+    /// ambient share.
+    pub exposure: f32,
+    /// Linear value of a white surface in the ambient light alone.
+    pub ambient: f32,
+    /// Standard deviation of the noise on each channel, linear units.
+    pub noise: f32,
+}
+
+impl Default for ColourCamera {
+    fn default() -> ColourCamera {
+        ColourCamera {
+            exposure: 0.7,
+            ambient: 0.15,
+            noise: 0.01,
+        }
+    }
 }
 
 /// The preset names.
@@ -286,6 +314,7 @@ impl SensorSpec {
                 min_range: range.0,
                 max_range: range.1,
                 reference_range: reference,
+                colour: ColourCamera::default(),
             };
         let zivid = |z: Zivid2, sigma_per_metre, range, focus| {
             spec(

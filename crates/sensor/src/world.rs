@@ -19,6 +19,9 @@ pub struct Material {
     pub specular: f32,
     /// Width of the specular lobe, radians, 0 to π (small = mirror).
     pub lobe: f32,
+    /// Diffuse colour: linear red, green and blue albedo 0..1, what the camera's colour image
+    /// sees (the signal reads `reflectivity`, at the projector's light).
+    pub colour: [f32; 3],
 }
 
 impl Default for Material {
@@ -27,6 +30,7 @@ impl Default for Material {
             reflectivity: 0.6,
             specular: 0.0,
             lobe: 0.2,
+            colour: [0.6; 3],
         }
     }
 }

@@ -347,6 +347,19 @@ pub struct OutputConfig {
     pub scene_cloud: bool,
     /// Also write depth, normal, label, instance and intensity images.
     pub images: bool,
+    /// What the points' rgb holds.
+    pub colour: Colouring,
+}
+
+/// What the points' rgb holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Colouring {
+    /// The colour the camera's colour image records.
+    Camera,
+    /// The class's colour of the label scheme, for looking at labels: it gives the label
+    /// away, so a network must not be fed it.
+    Class,
 }
 
 /// A whole dataset configuration.

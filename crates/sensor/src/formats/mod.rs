@@ -25,7 +25,7 @@ pub use ply::write_ply;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CloudFormat {
-    /// Binary PLY: x y z nx ny nz intensity class instance.
+    /// Binary PLY: x y z nx ny nz intensity red green blue class instance.
     Ply,
     /// Binary PCD v0.7 with a `label` field.
     Pcd,
@@ -71,17 +71,17 @@ impl CloudFormat {
         }
     }
 
-    /// Writes `cloud`; `palette` gives the class colours of the NPY layout.
+    /// Writes `cloud`.
     ///
     /// # Errors
     ///
     /// Any error of writing to `w`.
-    pub fn write(self, w: &mut dyn Write, cloud: &PointCloud, palette: &[[u8; 3]]) -> Result<()> {
+    pub fn write(self, w: &mut dyn Write, cloud: &PointCloud) -> Result<()> {
         match self {
             CloudFormat::Ply => write_ply(w, cloud),
             CloudFormat::Pcd => write_pcd(w, cloud, true),
             CloudFormat::PcdAscii => write_pcd(w, cloud, false),
-            CloudFormat::Npy => write_npy_synmotor(w, cloud, palette),
+            CloudFormat::Npy => write_npy_synmotor(w, cloud),
             CloudFormat::Npz => write_npz(w, cloud),
         }
     }

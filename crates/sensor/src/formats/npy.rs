@@ -38,19 +38,15 @@ fn array<T: Copy, const N: usize>(
     })
 }
 
-/// Writes the SynMotor training layout: float32 N×7 `x y z r g b label`, colours 0..1 from
-/// `palette` indexed by class (grey beyond it).
+/// Writes the SynMotor training layout: float32 N×7 `x y z r g b label`, the points' colours
+/// 0..1.
 ///
 /// # Errors
 ///
 /// Any error of writing to `w`.
-pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud, palette: &[[u8; 3]]) -> Result<()> {
+pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
     let rows = (0..c.len()).flat_map(|i| {
-        let rgb = palette
-            .get(c.class[i] as usize)
-            .copied()
-            .unwrap_or([128; 3])
-            .map(|x| x as f32 / 255.0);
+        let rgb = c.rgb[i].map(|x| x as f32 / 255.0);
         let p = c.xyz[i];
         [p.x, p.y, p.z, rgb[0], rgb[1], rgb[2], c.class[i] as f32]
     });
@@ -58,7 +54,7 @@ pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud, palette: &[[u8; 3]]
 }
 
 /// Writes an NPZ with arrays `xyz` (N×3 float32), `normal` (N×3 float32), `intensity` (N
-/// float32), `label` (N uint16, the class) and `instance` (N uint32). Entries are stored
+/// float32), `rgb` (N×3 uint8, sRGB), `label` (N uint16, the class) and `instance` (N uint32). Entries are stored
 /// uncompressed with a fixed timestamp, so the bytes are reproducible.
 ///
 /// # Errors
@@ -90,6 +86,9 @@ pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
             c.intensity.iter().copied(),
             f32::to_le_bytes,
         )
+    })?;
+    entry("rgb", &|w| {
+        array(w, "|u1", &[n, 3], c.rgb.iter().flatten().copied(), |v| [v])
     })?;
     entry("label", &|w| {
         array(w, "<u2", &[n], c.class.iter().copied(), u16::to_le_bytes)

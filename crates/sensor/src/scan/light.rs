@@ -17,6 +17,8 @@ pub(super) struct LitPixel {
     pub(super) t: f32,
     /// Signal strength at the point.
     pub(super) signal: f32,
+    /// The point's linear colour before the camera's noise.
+    pub(super) colour: Vec3,
     /// The surface point the projector must reach (camera frame) and its distance from the
     /// projector (none for sensors that light from the camera).
     pub(super) shadow: Option<(Vec3, f32)>,
@@ -77,7 +79,8 @@ pub(super) fn illuminate(
 
     let material = hit.material;
     let cos_light = normal.dot(light_dir).max(0.0);
-    let signal = material.reflectivity * cos_light * (sensor.reference_range / light_range).powi(2);
+    let light = cos_light * (sensor.reference_range / light_range).powi(2);
+    let signal = material.reflectivity * light;
     if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
         return None;
     }
@@ -95,6 +98,8 @@ pub(super) fn illuminate(
         centre,
         t: hit.t,
         signal,
+        colour: Vec3::from(material.colour)
+            * (light * sensor.colour.exposure + sensor.colour.ambient),
         shadow,
         rng,
     })

@@ -26,6 +26,37 @@ fn round(x: f32) -> f32 {
     rounded.copysign(x)
 }
 
+/// A linear colour with noise of standard deviation `sigma` on each channel, as 8-bit sRGB.
+/// The noise of each channel is the sum of two uniform draws (a triangular distribution of that
+/// deviation), three channels from one 64-bit draw of the pixel's colour stream.
+#[inline]
+fn srgb(linear: Vec3, sigma: f32, rng: PixelRng) -> [u8; 3] {
+    let bits = rng.bits(stream::COLOUR);
+    let uniform = |k: u32| ((bits >> (10 * k)) & 0x3ff) as f32 * (1.0 / 1024.0);
+    let spread = sigma * 6f32.sqrt();
+    let value = |c: usize, v: f32| {
+        let noisy = v + spread * (uniform(2 * c as u32) + uniform(2 * c as u32 + 1) - 1.0);
+        SRGB[(noisy.clamp(0.0, 1.0) * (SRGB_STEPS - 1) as f32) as usize]
+    };
+    [value(0, linear.x), value(1, linear.y), value(2, linear.z)]
+}
+
+/// Steps of the linear-to-sRGB table.
+const SRGB_STEPS: usize = 4096;
+
+/// 8-bit sRGB of linear values k / (SRGB_STEPS - 1).
+static SRGB: std::sync::LazyLock<[u8; SRGB_STEPS]> = std::sync::LazyLock::new(|| {
+    std::array::from_fn(|k| {
+        let x = k as f64 / (SRGB_STEPS - 1) as f64;
+        let s = if x <= 0.003_130_8 {
+            12.92 * x
+        } else {
+            1.055 * x.powf(1.0 / 2.4) - 0.055
+        };
+        (s * 255.0).round() as u8
+    })
+});
+
 /// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
 /// where it samples (its centre, or a laterally jittered position), whether that surface
 /// lies in the working range, range noise and quantisation.
@@ -43,6 +74,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         centre,
         t,
         signal,
+        colour,
         rng,
         ..
     } = *lit;
@@ -99,6 +131,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         return;
     }
     px.intensity = signal;
+    px.rgb = srgb(colour, sensor.colour.noise, rng);
     px.point = dir * range;
 }
 

@@ -39,6 +39,8 @@ pub struct Pixel {
     pub instance: u32,
     /// Signal strength: reflectivity × cos(incidence of the light) × (reference / range)².
     pub intensity: f32,
+    /// Colour as the camera's colour image records it, sRGB (black where there is no point).
+    pub rgb: [u8; 3],
     /// Angle between the surface normal and the direction to the camera, radians.
     pub incidence: f32,
 }
@@ -52,6 +54,7 @@ impl Pixel {
         class: 0,
         instance: 0,
         intensity: 0.0,
+        rgb: [0; 3],
         incidence: f32::NAN,
     };
 

@@ -181,9 +181,9 @@ fn kinect_depth_comes_in_disparity_steps_and_the_window_removes_strays() {
 fn shiny_surfaces_saturate_near_the_mirror_direction() {
     let mut plane = facing_plane(1.0);
     plane.material = Material {
-        reflectivity: 0.6,
         specular: 1.0,
         lobe: 5f32.to_radians(),
+        ..Material::default()
     };
     let noise = Noise {
         specular: noise::Specular { probability: 0.5 },
@@ -308,4 +308,41 @@ fn pixel_normals_are_standard_and_streams_independent() {
     );
     let corr = draws.iter().map(|(x, y)| x * y).sum::<f64>() / n as f64;
     assert!(corr.abs() < 4.0 / (n as f64).sqrt(), "correlation {corr}");
+}
+
+/// Each point's colour is its material's albedo under the light, with the colour camera's noise:
+/// decoded from sRGB, the residual has zero mean and the camera's deviation on every channel.
+#[test]
+fn colour_is_albedo_under_the_light_with_the_cameras_noise() {
+    let mut plane = facing_plane(1.0);
+    plane.material.colour = [0.5, 0.25, 0.1];
+    let tof = tof_camera(Noise::default());
+    let s = scan(&World::new(&[plane]), &tof, &Affine3A::IDENTITY, 9);
+    let c = tof.colour;
+    let linear = |v: u8| {
+        let x = v as f64 / 255.0;
+        if x <= 0.04045 {
+            x / 12.92
+        } else {
+            ((x + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    for (k, albedo) in [0.5, 0.25, 0.1].into_iter().enumerate() {
+        let residual: Vec<f64> = s
+            .pixels
+            .iter()
+            .filter(|p| p.is_valid())
+            .map(|p| {
+                let light = (p.intensity / Material::default().reflectivity) as f64;
+                let expected = albedo * (light * c.exposure as f64 + c.ambient as f64);
+                linear(p.rgb[k]) - expected
+            })
+            .collect();
+        let (m, sd) = mean_std(&residual);
+        assert!(m.abs() < 1e-3, "channel {k}: mean {m}");
+        assert!(
+            (sd / c.noise as f64 - 1.0).abs() < 0.15,
+            "channel {k}: deviation {sd}"
+        );
+    }
 }
