@@ -196,29 +196,29 @@ impl Zivid2 {
     }
 }
 
-/// Zivid 2 (1944×1200, projector 1280×720) with a lens of `focal_px`.
-fn zivid2(focal_px: f64, baseline_mm: f32, toe: f32, projector_focal_px: f32) -> Zivid2 {
-    Zivid2 {
-        width: 1944,
-        height: 1200,
-        focal_px,
-        baseline: baseline_mm * 1e-3,
-        toe,
-        projector_focal_px,
-        projector_size: [1280.0 / 4.0, 720.0 / 4.0],
-    }
-}
+/// Zivid 2: the camera's and the projector's full resolution.
+const ZIVID_2: ([u32; 2], [f32; 2]) = ([1944, 1200], [1280.0, 720.0]);
+/// Zivid 2+: the camera's and the projector's full resolution.
+const ZIVID_2PLUS: ([u32; 2], [f32; 2]) = ([2448, 2048], [1000.0, 720.0]);
 
-/// Zivid 2+ (2448×2048, projector 1000×720) with a lens of `focal_px`.
-fn zivid2plus(focal_px: f64, baseline_mm: f32, toe: f32, projector_focal_px: f32) -> Zivid2 {
+/// A Zivid of `line` (its resolutions) with a camera lens of `focal_px`, the projector
+/// `baseline_mm` beside it turned by `toe`, with a lens of `projector_focal_px` (4×4 binned).
+fn zivid2(
+    line: ([u32; 2], [f32; 2]),
+    focal_px: f64,
+    baseline_mm: f32,
+    toe: f32,
+    projector_focal_px: f32,
+) -> Zivid2 {
+    let ([width, height], projector) = line;
     Zivid2 {
-        width: 2448,
-        height: 2048,
+        width,
+        height,
         focal_px,
         baseline: baseline_mm * 1e-3,
         toe,
         projector_focal_px,
-        projector_size: [1000.0 / 4.0, 720.0 / 4.0],
+        projector_size: projector.map(|n| n / 4.0),
     }
 }
 
@@ -326,9 +326,9 @@ impl SensorSpec {
                 focus,
             )
         };
-        let m60 = || zivid2plus(2481.0, 111.2, 0.085, 233.0);
-        let m130 = || zivid2plus(4028.0, 111.9, 0.069, 351.0);
-        let l110 = || zivid2plus(2479.0, 111.6, 0.087, 232.0);
+        let m60 = || zivid2(ZIVID_2PLUS, 2481.0, 111.2, 0.085, 233.0);
+        let m130 = || zivid2(ZIVID_2PLUS, 4028.0, 111.9, 0.069, 351.0);
+        let l110 = || zivid2(ZIVID_2PLUS, 2479.0, 111.6, 0.087, 232.0);
         Ok(match name {
             "zivid-one-plus-m" => spec(
                 name,
@@ -357,8 +357,18 @@ impl SensorSpec {
                 (0.6, 1.6),
                 1.0,
             ),
-            "zivid-2-m70" => zivid(zivid2(1785.0, 111.2, 0.113, 292.0), 1.5e-4, (0.3, 1.3), 0.7),
-            "zivid-2-l100" => zivid(zivid2(1784.0, 111.3, 0.112, 292.0), 1.5e-4, (0.6, 1.6), 1.0),
+            "zivid-2-m70" => zivid(
+                zivid2(ZIVID_2, 1785.0, 111.2, 0.113, 292.0),
+                1.5e-4,
+                (0.3, 1.3),
+                0.7,
+            ),
+            "zivid-2-l100" => zivid(
+                zivid2(ZIVID_2, 1784.0, 111.3, 0.112, 292.0),
+                1.5e-4,
+                (0.6, 1.6),
+                1.0,
+            ),
             "zivid-2plus-m60" | "zivid-2plus-mr60" => zivid(m60(), 1e-4, (0.3, 1.1), 0.6),
             "zivid-2plus-m130" | "zivid-2plus-mr130" => zivid(m130(), 1e-4, (0.8, 2.0), 1.3),
             "zivid-2plus-l110" | "zivid-2plus-lr110" => zivid(l110(), 1e-4, (0.7, 1.7), 1.1),
