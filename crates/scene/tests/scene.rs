@@ -280,8 +280,8 @@ fn colour_does_not_give_the_label_away() {
     let recipe = dataset.recipe(0).unwrap();
     let scheme = recipe.config.output.scheme;
     let (container, cover) = (
-        scheme.id(motorgen::PartKind::GearContainer) as u16,
-        scheme.id(motorgen::PartKind::Cover) as u16,
+        scheme.id(PartKind::GearContainer) as u16,
+        scheme.id(PartKind::Cover) as u16,
     );
     let (mut right, mut total) = (0usize, 0usize);
     for index in 0..4 {
