@@ -48,8 +48,8 @@ impl Region {
     /// The region extruded from `z0` to `z1`: a closed shell for each of its connected pieces.
     /// Corners closer than a ten-thousandth of the region's size to their neighbours' line
     /// and pieces or holes smaller than a millionth of its size squared (slivers a boolean
-    /// leaves) are dropped first, so that no face degenerates; where a hole touches the outline, or two
-    /// pieces touch, closer than that, the pinch is opened.
+    /// leaves) are dropped first, so that no face degenerates; where a hole touches the
+    /// outline, or two pieces touch, closer than that, the pinch is opened.
     pub fn extrude(&self, z0: f32, z1: f32) -> Mesh {
         let b = self.0.bounds();
         let size = (b.max.x - b.min.x).max(b.max.y - b.min.y);
@@ -85,6 +85,7 @@ impl Region {
         };
         for mut loops in pieces {
             loops.retain(|l| !sliver(l));
+            // nor is a piece that its holes leave as little of
             let area: f32 = 0.5 * loops.iter().map(|l| signed_area2(l)).sum::<f32>();
             if (area as f64) < 1e-6 * size * size {
                 continue;
