@@ -113,69 +113,26 @@ impl Region {
 /// Whether a corner lies within `eps` of an edge it does not end (a hole touching its piece's
 /// outline, two pieces touching, or a loop touching itself).
 fn touching(loops: &[Vec<Vec2>], eps: f32) -> bool {
-    let boxes: Vec<Bounds> = loops.iter().map(|l| Bounds::of(l)).collect();
-    let near = |(a, b): (Vec2, Vec2), p: Vec2| {
-        p != a && p != b && Bounds::of(&[a, b]).meets(&Bounds::of(&[p]), eps) && {
-            let ab = b - a;
-            let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
-            p.distance(a + t * ab) < eps
-        }
-    };
-    // the corners of another loop beside an edge
-    let across = loops.iter().enumerate().any(|(i, l)| {
-        loops.iter().enumerate().any(|(j, other)| {
-            i != j
-                && boxes[i].meets(&boxes[j], eps)
-                && edges(l).any(|e| {
-                    Bounds::of(&[e.0, e.1]).meets(&boxes[j], eps)
-                        && other.iter().any(|p| near(e, *p))
-                })
-        })
-    });
-    // a concave loop's own corners beside its edges, found by x
-    across
-        || loops.iter().filter(|l| !convex(l)).any(|l| {
-            let mut corners = l.clone();
-            corners.sort_by(|p, q| p.x.total_cmp(&q.x));
-            edges(l).any(|e| {
-                let from = corners.partition_point(|p| p.x < e.0.x.min(e.1.x) - eps);
-                corners[from..]
-                    .iter()
-                    .take_while(|p| p.x <= e.0.x.max(e.1.x) + eps)
-                    .any(|p| near(e, *p))
+    // every corner, by x, to find those beside an edge
+    let mut corners: Vec<Vec2> = loops.iter().flatten().copied().collect();
+    corners.sort_unstable_by(|p, q| p.x.total_cmp(&q.x));
+    loops.iter().flat_map(|l| edges(l)).any(|(a, b)| {
+        let (lo, hi) = (a.min(b) - eps, a.max(b) + eps);
+        let from = corners.partition_point(|p| p.x < lo.x);
+        corners[from..]
+            .iter()
+            .take_while(|p| p.x <= hi.x)
+            .any(|&p| {
+                p.y >= lo.y && p.y <= hi.y && p != a && p != b && {
+                    let ab = b - a;
+                    let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+                    p.distance(a + t * ab) < eps
+                }
             })
-        })
+    })
 }
 
 /// The edges of a closed loop.
 fn edges(l: &[Vec2]) -> impl Iterator<Item = (Vec2, Vec2)> + '_ {
     (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()]))
-}
-
-/// Whether a loop turns one way only.
-fn convex(l: &[Vec2]) -> bool {
-    let n = l.len();
-    let turns = (0..n).map(|k| (l[(k + 1) % n] - l[k]).perp_dot(l[(k + 2) % n] - l[(k + 1) % n]));
-    let (left, right) = turns.fold((false, false), |(l, r), t| (l || t > 0.0, r || t < 0.0));
-    !(left && right)
-}
-
-/// An axis-aligned box of points.
-struct Bounds(Vec2, Vec2);
-
-impl Bounds {
-    fn of(points: &[Vec2]) -> Bounds {
-        let (lo, hi) = points.iter().fold((Vec2::MAX, Vec2::MIN), |(lo, hi), p| {
-            (lo.min(*p), hi.max(*p))
-        });
-        Bounds(lo, hi)
-    }
-
-    /// Whether the two boxes, one grown by `eps`, overlap.
-    fn meets(&self, other: &Bounds, eps: f32) -> bool {
-        self.0.x <= other.1.x + eps
-            && other.0.x <= self.1.x + eps
-            && self.0.y <= other.1.y + eps
-            && other.0.y <= self.1.y + eps
-    }
 }
