@@ -482,10 +482,9 @@ impl Dataset {
                 names.push(rel);
                 Ok::<_, Error>(())
             };
+            let cloud = coloured(&view.cloud, out.colour, &palette);
             for f in &out.formats {
-                put(f.file_name(&view_stem), &|w| {
-                    f.write(w, &coloured(&view.cloud, out.colour, &palette))
-                })?;
+                put(f.file_name(&view_stem), &|w| f.write(w, &cloud))?;
             }
             if let Some(cloud) = &view.scene_cloud {
                 let f = out
@@ -637,7 +636,7 @@ fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
         .min_by(f32::total_cmp);
     let what = match nearest {
         None => format!("{range}, and no surface is in view; check camera"),
-        Some(d) if d < sensor.min_range || d > sensor.max_range => format!(
+        Some(d) if !sensor.in_range(d) => format!(
             "{range}, and the nearest surface in view is {d:.3} m deep; set \
              camera.distance (or sensor.preset) so that the motor lies in range"
         ),

@@ -158,68 +158,42 @@ pub const PRESETS: [&str; 12] = [
     "ideal",
 ];
 
-/// A Zivid 2 or 2+ as Zivid's own simulation describes it: the camera's focal length and
-/// full resolution (principal point at the centre), the projector `baseline` m along camera +x
-/// turned `toe` radians towards the camera's axis, and the projector's focal length and
-/// resolution in its (4×4-binned) pixels, which give its field.
-struct Zivid2 {
-    width: u32,
-    height: u32,
-    focal_px: f64,
-    baseline: f32,
-    toe: f32,
-    projector_focal_px: f32,
-    projector_size: [f32; 2],
-}
-
-impl Zivid2 {
-    fn intrinsics(&self) -> Intrinsics {
-        Intrinsics {
-            width: self.width,
-            height: self.height,
-            fx: self.focal_px,
-            fy: self.focal_px,
-            cx: f64::from(self.width / 2),
-            cy: f64::from(self.height / 2),
-            distortion: Distortion::default(),
-        }
-    }
-
-    fn projector(&self) -> Projector {
-        let field = |size: f32| 2.0 * (0.5 * size / self.projector_focal_px).atan().to_degrees();
-        Projector {
-            baseline: self.baseline,
-            convergence: self.baseline / self.toe.tan(),
-            hfov_deg: field(self.projector_size[0]),
-            vfov_deg: field(self.projector_size[1]),
-        }
-    }
-}
-
 /// Zivid 2: the camera's and the projector's full resolution.
 const ZIVID_2: ([u32; 2], [f32; 2]) = ([1944, 1200], [1280.0, 720.0]);
 /// Zivid 2+: the camera's and the projector's full resolution.
 const ZIVID_2PLUS: ([u32; 2], [f32; 2]) = ([2448, 2048], [1000.0, 720.0]);
 
-/// A Zivid of `line` (its resolutions) with a camera lens of `focal_px`, the projector
-/// `baseline_mm` beside it turned by `toe`, with a lens of `projector_focal_px` (4×4 binned).
+/// The camera and projector of a Zivid of `line` (its resolutions), as Zivid's own simulation
+/// describes them: a camera lens of `focal_px` (principal point at the centre), the projector
+/// `baseline_mm` along camera +x turned `toe` radians towards the camera's axis, its lens of
+/// `projector_focal_px` in 4×4-binned projector pixels giving its field.
 fn zivid2(
     line: ([u32; 2], [f32; 2]),
     focal_px: f64,
     baseline_mm: f32,
     toe: f32,
     projector_focal_px: f32,
-) -> Zivid2 {
-    let ([width, height], projector) = line;
-    Zivid2 {
-        width,
-        height,
-        focal_px,
-        baseline: baseline_mm * 1e-3,
-        toe,
-        projector_focal_px,
-        projector_size: projector.map(|n| n / 4.0),
-    }
+) -> (Intrinsics, Projector) {
+    let ([width, height], [pw, ph]) = line;
+    let field = |pixels: f32| 2.0 * (pixels / 8.0 / projector_focal_px).atan().to_degrees();
+    let baseline = baseline_mm * 1e-3;
+    (
+        Intrinsics {
+            width,
+            height,
+            fx: focal_px,
+            fy: focal_px,
+            cx: f64::from(width / 2),
+            cy: f64::from(height / 2),
+            distortion: Distortion::default(),
+        },
+        Projector {
+            baseline,
+            convergence: baseline / toe.tan(),
+            hfov_deg: field(pw),
+            vfov_deg: field(ph),
+        },
+    )
 }
 
 /// Zivid-like noise: σ proportional to range, growing at grazing incidence, low-signal and
@@ -316,11 +290,11 @@ impl SensorSpec {
                 reference_range: reference,
                 colour: ColourCamera::default(),
             };
-        let zivid = |z: Zivid2, sigma_per_metre, range, focus| {
+        let zivid = |(camera, projector), sigma_per_metre, range, focus| {
             spec(
                 name,
-                z.intrinsics(),
-                structured(z.projector()),
+                camera,
+                structured(projector),
                 zivid_noise(sigma_per_metre),
                 range,
                 focus,
@@ -408,7 +382,7 @@ impl SensorSpec {
             ),
             "ideal" => spec(
                 name,
-                m60().intrinsics(),
+                m60().0,
                 Model::Ideal,
                 Noise::default(),
                 (0.0, 100.0),
@@ -425,11 +399,18 @@ impl SensorSpec {
         z >= self.min_range * (1.0 - 1e-6) && z <= self.max_range * (1.0 + 1e-6)
     }
 
+    /// The depth (camera z) up to which surfaces must be met: the far end of the working
+    /// range and a hair beyond, for the rounding of a ray's length.
+    #[inline]
+    pub fn far_depth(&self) -> f32 {
+        self.max_range * (1.0 + 1e-5)
+    }
+
     /// The length up to which a ray in camera direction `dir` (unit) must be cast to meet
     /// every surface in the working range.
     #[inline]
     pub fn reach(&self, dir: Vec3) -> f32 {
-        self.max_range * (1.0 + 1e-5) / dir.z.max(1e-6)
+        self.far_depth() / dir.z.max(1e-6)
     }
 
     /// The projector, for models that have one.

@@ -54,8 +54,9 @@ pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
 }
 
 /// Writes an NPZ with arrays `xyz` (N×3 float32), `normal` (N×3 float32), `intensity` (N
-/// float32), `rgb` (N×3 uint8, sRGB), `label` (N uint16, the class) and `instance` (N uint32). Entries are stored
-/// uncompressed with a fixed timestamp, so the bytes are reproducible.
+/// float32), `rgb` (N×3 uint8, sRGB), `label` (N uint16, the class) and `instance` (N
+/// uint32). Entries are stored uncompressed with a fixed timestamp, so the bytes are
+/// reproducible.
 ///
 /// # Errors
 ///

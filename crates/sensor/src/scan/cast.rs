@@ -78,7 +78,7 @@ impl<'a> Capture<'a> {
         let pinhole = k.distortion.is_none();
         let path = if pinhole && 3 * cols.len() * band_rows.len() >= world.triangle_count() {
             let baseline = sensor.projector().map_or(0.0, |p| p.baseline);
-            let far = sensor.max_range * (1.0 + 1e-5);
+            let far = sensor.far_depth();
             let epipolar = world.epipolar(k, pose, baseline, band_rows, BLOCK, far);
             Path::Rows(epipolar)
         } else {

@@ -1,5 +1,6 @@
 //! A lit pixel measured as a point: where it samples, the working range, range noise,
-//! disparity, bias and quantization; and the effects of neighbours (mixed pixels, the Kinect window).
+//! disparity, bias, quantization and colour; and the effects of neighbours (mixed pixels, the
+//! Kinect window).
 
 use std::ops::Range;
 

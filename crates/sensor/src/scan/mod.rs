@@ -110,8 +110,8 @@ pub fn scan(world: &World, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> S
 }
 
 /// The depth (camera z) of the nearest surface that a sparse grid of the camera's rays (every
-/// 8th pixel of every 8th row, and the last) meets at any range; None when they meet nothing. It tells a
-/// user whose scan came out empty how far the scene really is.
+/// 8th pixel of every 8th row, and the last) meets at any range; None when they meet nothing.
+/// It tells a user whose scan came out empty how far the scene really is.
 ///
 /// # Example
 ///
