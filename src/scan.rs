@@ -91,14 +91,14 @@ fn read_sensor(name: &str) -> CliResult<SensorSpec> {
 impl ScanCmd {
     /// Runs the command.
     pub fn run(&self) -> CliResult<()> {
-        let mut spec = read_sensor(&self.sensor)?;
+        let spec = read_sensor(&self.sensor)?;
         if ![1, 2, 4].contains(&self.binning) {
             return Err(CliError::Usage(format!(
                 "--binning {} is not allowed: expected 1, 2 or 4",
                 self.binning
             )));
         }
-        spec.intrinsics = spec.intrinsics.binned(self.binning);
+        let spec = spec.binned(self.binning);
         spec.validate()
             .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
         // the meshes are read whole, then held as targets and in the BVH: about four times

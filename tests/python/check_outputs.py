@@ -24,7 +24,7 @@ def main(scan_dir, motor_dir):
     check("npy colours in 0..1", table[:, 3:6].min() >= 0 and table[:, 3:6].max() <= 1)
 
     npz = np.load(f"{scan_dir}/cloud.npz")
-    check("npz arrays", sorted(npz.files) == ["instance", "intensity", "label", "normal", "rgb", "xyz"], npz.files)
+    check("npz arrays", sorted(npz.files) == ["instance", "intensity", "label", "normal", "rgb", "snr", "xyz"], npz.files)
     rgb = npz["rgb"]
     check("npz rgb N x 3 uint8", rgb.shape == (n, 3) and rgb.dtype == np.uint8, (rgb.shape, rgb.dtype))
     check("npy colours are the npz rgb", np.allclose(table[:, 3:6], rgb / 255.0, atol=1e-6))
@@ -33,6 +33,17 @@ def main(scan_dir, motor_dir):
     check("npz labels", np.array_equal(npz["label"].astype(np.float32), labels) and npz["label"].dtype == np.uint16)
     check("npz normals are unit", np.allclose(np.linalg.norm(npz["normal"], axis=1), 1, atol=1e-4))
     check("npz instance dtype", npz["instance"].dtype == np.uint32)
+    snr = npz["snr"]
+    check("npz snr float32 0..255", snr.dtype == np.float32 and snr.shape == (n,) and snr.min() >= 0 and snr.max() <= 255)
+
+    # the binary PLY's vertices as numpy reads them from the header's property list
+    raw = open(f"{scan_dir}/cloud.ply", "rb").read()
+    header, body = raw.split(b"end_header\n", 1)
+    kinds = {"float": "<f4", "uchar": "u1", "ushort": "<u2", "uint": "<u4"}
+    props = [line.split()[1:] for line in header.decode().splitlines() if line.startswith("property")]
+    vertices = np.frombuffer(body, dtype=np.dtype([(name, kinds[kind]) for kind, name in props]), count=n)
+    check("ply snr is the npz snr", np.array_equal(vertices["snr"], snr))
+    check("ply intensity is the npz intensity", np.array_equal(vertices["intensity"], npz["intensity"]))
 
     for name in ["cloud.ply", "cloud.pcd", "cloud_ascii.pcd"]:
         pc = o3d.io.read_point_cloud(f"{scan_dir}/{name}")

@@ -221,10 +221,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     );
     let noise_scale = lc.noise_scale.sample(&mut Seed::NoiseScale.rng(seed));
     let mut sensor = recipe.sensor.clone();
-    let axial = &mut sensor.noise.axial;
-    axial.sigma *= noise_scale;
-    axial.per_metre *= noise_scale;
-    axial.per_metre2 *= noise_scale;
+    sensor.noise = sensor.noise.scaled(noise_scale);
 
     let world = World::new(&cell.targets(config.output.scheme));
     let out = &config.output;

@@ -62,6 +62,8 @@ pub struct PointCloud {
     pub intensity: Vec<f32>,
     /// Colour, 8-bit sRGB.
     pub rgb: Vec<[u8; 3]>,
+    /// Signal-to-noise ratio of the pattern (see [`Pixel::snr`]).
+    pub snr: Vec<f32>,
     /// Semantic class.
     pub class: Vec<u16>,
     /// Instance id.
@@ -149,6 +151,7 @@ impl PointCloud {
             normal: column(n, Vec3::ZERO),
             intensity: column(n, 0.0),
             rgb: column(n, [0; 3]),
+            snr: column(n, 0.0),
             class: column(n, 0),
             instance: column(n, 0),
         }
@@ -161,6 +164,7 @@ struct Columns<'a> {
     normal: &'a mut [Vec3],
     intensity: &'a mut [f32],
     rgb: &'a mut [[u8; 3]],
+    snr: &'a mut [f32],
     class: &'a mut [u16],
     instance: &'a mut [u32],
 }
@@ -172,6 +176,7 @@ impl<'a> Columns<'a> {
             normal: &mut c.normal,
             intensity: &mut c.intensity,
             rgb: &mut c.rgb,
+            snr: &mut c.snr,
             class: &mut c.class,
             instance: &mut c.instance,
         }
@@ -183,6 +188,7 @@ impl<'a> Columns<'a> {
         let (normal, normal_rest) = self.normal.split_at_mut(n);
         let (intensity, intensity_rest) = self.intensity.split_at_mut(n);
         let (rgb, rgb_rest) = self.rgb.split_at_mut(n);
+        let (snr, snr_rest) = self.snr.split_at_mut(n);
         let (class, class_rest) = self.class.split_at_mut(n);
         let (instance, instance_rest) = self.instance.split_at_mut(n);
         (
@@ -191,6 +197,7 @@ impl<'a> Columns<'a> {
                 normal,
                 intensity,
                 rgb,
+                snr,
                 class,
                 instance,
             },
@@ -199,6 +206,7 @@ impl<'a> Columns<'a> {
                 normal: normal_rest,
                 intensity: intensity_rest,
                 rgb: rgb_rest,
+                snr: snr_rest,
                 class: class_rest,
                 instance: instance_rest,
             },
@@ -212,6 +220,7 @@ impl<'a> Columns<'a> {
         self.normal[k] = p.normal;
         self.intensity[k] = p.intensity;
         self.rgb[k] = p.rgb;
+        self.snr[k] = p.snr;
         self.class[k] = p.class;
         self.instance[k] = p.instance;
     }

@@ -58,5 +58,7 @@ pub use cloud::{Frame, PointCloud, Units};
 pub use error::Error;
 pub use noise::Noise;
 pub use scan::{Pixel, Region, Scan, nearest_surface, scan, scan_reusing, scan_within};
-pub use spec::{Model, PRESETS, Projector, SensorSpec};
+pub use spec::{
+    Calibration, CalibrationError, Model, PRESETS, Processing, Projector, Removal, SensorSpec,
+};
 pub use world::{Classes, Material, Target, World};

@@ -107,6 +107,10 @@ pub mod stream {
     pub const BIAS: u64 = 12;
     /// Colour noise (one draw for the three channels).
     pub const COLOUR: u64 = 14;
+    /// The lattice of the correlated range noise (keyed by its nodes, not by pixels).
+    pub const CORRELATED: u64 = 16;
+    /// The camera's calibration error (drawn once, from the pixel index `u64::MAX`).
+    pub const CALIBRATION: u64 = 18;
 }
 
 /// All noise models of a sensor. Each is off at its default.
@@ -117,6 +121,10 @@ pub struct Noise {
     pub axial: Axial,
     /// Growth of the axial noise towards grazing incidence.
     pub incidence: Incidence,
+    /// Range noise from the pattern's signal-to-noise ratio (structured light).
+    pub snr: Snr,
+    /// Correlation of the range noise along the projector's stripes.
+    pub correlated: Correlated,
     /// Gaussian jitter of the pixel's sampling position, pixels (σ): the point moves to where
     /// the jittered ray meets the tangent plane of the surface the pixel sees.
     pub lateral_px: f32,
@@ -183,6 +191,109 @@ impl Incidence {
         }
         let grazing = theta / (std::f32::consts::FRAC_PI_2 - theta).max(1e-6);
         (1.0 + self.gain * grazing).min(self.max_factor)
+    }
+}
+
+/// The signal-to-noise ratio of a structured-light sensor's decoded pattern, and the range
+/// noise it makes. A surface of reflectivity ρ whose signal is s (see [`Dropout`]) gives each
+/// pixel A = s·`electrons` of pattern modulation over an ambient level B = ρ·`ambient`·
+/// `electrons`; SNR = A / √(A + B + `read_electrons`²) (shot and read noise), capped at 255 as
+/// Zivid's 8-bit SNR. The decoded disparity errs by `disparity_px` / SNR pixels (σ), which
+/// triangulates into σ_z = σ·z² / (f·b) along the camera's z (f the focal length in pixels, b
+/// the baseline): dark, far and grazing surfaces are noisier, and lose their points to the
+/// noise filter (`processing.filters.noise.removal`) when their SNR is low.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Snr {
+    /// Electrons of pattern modulation a pixel collects from a white surface facing the
+    /// projector at the reference range (0 = off).
+    pub electrons: f32,
+    /// Ambient light on a white surface, as a share of that modulation.
+    pub ambient: f32,
+    /// Read noise, electrons (σ).
+    pub read_electrons: f32,
+    /// Disparity error at SNR 1, pixels (σ).
+    pub disparity_px: f32,
+}
+
+impl Snr {
+    /// Whether the model is on.
+    #[inline]
+    pub fn is_on(&self) -> bool {
+        self.electrons > 0.0
+    }
+
+    /// The SNR of a pixel seeing a surface of `reflectivity` with signal `signal`.
+    #[inline]
+    pub fn ratio(&self, signal: f32, reflectivity: f32) -> f32 {
+        let a = signal * self.electrons;
+        let b = reflectivity * self.ambient * self.electrons;
+        let noise = (a + b + self.read_electrons * self.read_electrons).sqrt();
+        if noise > 0.0 {
+            (a / noise).min(255.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// σ of the depth (camera z, m) at depth `z` of a pixel of SNR `snr`, for a camera of focal
+    /// length × baseline `focal_baseline` (pixel·m).
+    #[inline]
+    pub fn sigma_z(&self, snr: f32, z: f32, focal_baseline: f32) -> f32 {
+        self.disparity_px / snr.max(1e-3) * z * z / focal_baseline
+    }
+}
+
+/// Range noise correlated along the projector's stripes (the image's columns, across the
+/// baseline): a share `share` of the noise's variance is drawn at every `length_px`-th row of
+/// each column and interpolated linearly between (normalised to unit variance), so that
+/// neighbours along a column err alike; the rest stays white. Two pixels `length_px` or more
+/// apart along a column, or in different columns, are uncorrelated.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Correlated {
+    /// Share of the range noise's variance that is correlated (0 = off).
+    pub share: f32,
+    /// Correlation length along the stripes, pixels.
+    pub length_px: f32,
+}
+
+impl Default for Correlated {
+    fn default() -> Correlated {
+        Correlated {
+            share: 0.0,
+            length_px: 4.0,
+        }
+    }
+}
+
+impl Correlated {
+    /// The key of the lattice of scan `seed`, for [`Correlated::draw`].
+    pub fn key(seed: u64) -> u64 {
+        mix(seed ^ mix(stream::CORRELATED))
+    }
+
+    /// The standard normal draw of pixel (`col`, `row`) of a `width`-wide scan, `white` being
+    /// the pixel's own draw: the correlated share from the lattice of `key`.
+    #[inline]
+    pub fn draw(&self, white: f32, key: u64, col: usize, row: usize, width: usize) -> f32 {
+        if self.share <= 0.0 {
+            return white;
+        }
+        let at = row as f32 / self.length_px;
+        let node = at as usize;
+        let f = at - node as f32;
+        // a node's draw: one hash (SplitMix64's stream of the key), as the sum of four of its
+        // 16-bit uniforms (Irwin-Hall) scaled to unit variance, close to normal
+        let lattice = |n: usize| {
+            let index = (n * width + col) as u64;
+            let bits = mix(key.wrapping_add(index.wrapping_mul(0x9e37_79b9_7f4a_7c15)));
+            let sum: u32 = (0..4).map(|k| ((bits >> (16 * k)) & 0xffff) as u32).sum();
+            (sum as f32 * (1.0 / 65536.0) - 2.0) * 3f32.sqrt()
+        };
+        let (n0, n1) = (lattice(node), lattice(node + 1));
+        let smooth = ((1.0 - f) * n0 + f * n1) / ((1.0 - f) * (1.0 - f) + f * f).sqrt();
+        (1.0 - self.share).sqrt() * white + self.share.sqrt() * smooth
     }
 }
 
@@ -273,6 +384,16 @@ pub struct Bias {
 }
 
 impl Noise {
+    /// The same noise with every range-noise amplitude (the axial σ, the SNR model's
+    /// disparity error) multiplied by `factor`.
+    pub fn scaled(mut self, factor: f32) -> Noise {
+        self.axial.sigma *= factor;
+        self.axial.per_metre *= factor;
+        self.axial.per_metre2 *= factor;
+        self.snr.disparity_px *= factor;
+        self
+    }
+
     /// Checks that every setting is finite, non-negative, and a probability where it is one.
     ///
     /// # Errors
@@ -285,6 +406,10 @@ impl Noise {
             ("axial.per_metre", self.axial.per_metre),
             ("axial.per_metre2", self.axial.per_metre2),
             ("incidence.gain", self.incidence.gain),
+            ("snr.electrons", self.snr.electrons),
+            ("snr.ambient", self.snr.ambient),
+            ("snr.read_electrons", self.snr.read_electrons),
+            ("snr.disparity_px", self.snr.disparity_px),
             ("lateral_px", self.lateral_px),
             ("quantization", self.quantization),
             ("dropout.signal_threshold", self.dropout.signal_threshold),
@@ -297,6 +422,7 @@ impl Noise {
             ("dropout.rate", self.dropout.rate),
             ("specular.probability", self.specular.probability),
             ("edges.probability", self.edges.probability),
+            ("correlated.share", self.correlated.share),
         ];
         let bad = |key: &str, value: f32, allowed: &str| crate::Error::Invalid {
             key: format!("noise.{key}"),
@@ -308,6 +434,13 @@ impl Noise {
         }
         if let Some((k, v)) = shares.iter().find(|(_, v)| !(0.0..=1.0).contains(v)) {
             return Err(bad(k, *v, "a probability from 0 to 1"));
+        }
+        if !(self.correlated.length_px >= 1.0 && self.correlated.length_px.is_finite()) {
+            return Err(bad(
+                "correlated.length_px",
+                self.correlated.length_px,
+                "a finite number >= 1",
+            ));
         }
         if !(self.incidence.max_factor >= 1.0 && self.incidence.max_factor.is_finite()) {
             return Err(bad(

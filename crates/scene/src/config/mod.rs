@@ -270,10 +270,10 @@ impl SensorConfig {
         if ![1, 2, 4].contains(&self.binning) {
             return Err(Error::invalid("sensor.binning", self.binning, "1, 2 or 4"));
         }
-        spec.intrinsics = spec.intrinsics.binned(self.binning);
         if let Some(noise) = self.noise {
             spec.noise = noise;
         }
+        let spec = spec.binned(self.binning);
         spec.validate()
             .map_err(|e| Error::Config(format!("sensor: {e}")))?;
         Ok(spec)

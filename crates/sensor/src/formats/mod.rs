@@ -25,7 +25,7 @@ pub use ply::write_ply;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CloudFormat {
-    /// Binary PLY: x y z nx ny nz intensity red green blue class instance.
+    /// Binary PLY: x y z nx ny nz intensity snr red green blue class instance.
     Ply,
     /// Binary PCD v0.7 with a `label` field.
     Pcd,

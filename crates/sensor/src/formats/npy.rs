@@ -54,7 +54,7 @@ pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
 }
 
 /// Writes an NPZ with arrays `xyz` (N×3 float32), `normal` (N×3 float32), `intensity` (N
-/// float32), `rgb` (N×3 uint8, sRGB), `label` (N uint16, the class) and `instance` (N
+/// float32), `snr` (N float32), `rgb` (N×3 uint8, sRGB), `label` (N uint16, the class) and `instance` (N
 /// uint32). Entries are stored uncompressed with a fixed timestamp, so the bytes are
 /// reproducible.
 ///
@@ -87,6 +87,9 @@ pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
             c.intensity.iter().copied(),
             f32::to_le_bytes,
         )
+    })?;
+    entry("snr", &|w| {
+        array(w, "<f4", &[n], c.snr.iter().copied(), f32::to_le_bytes)
     })?;
     entry("rgb", &|w| {
         array(w, "|u1", &[n, 3], c.rgb.iter().flatten().copied(), |v| [v])

@@ -12,8 +12,8 @@ use super::measure::measure;
 use super::region::{Region, Window, row_columns};
 use crate::bvh::lanes;
 use crate::epipolar::{Epipolar, Ray, RowCut};
-use crate::noise::{PixelRng, stream};
-use crate::spec::{Frustum, SensorSpec};
+use crate::noise::{Correlated, PixelRng, stream};
+use crate::spec::{CalibrationError, Frustum, SensorSpec};
 use crate::world::World;
 
 /// What every pixel of one scan shares.
@@ -36,6 +36,12 @@ pub(super) struct Capture<'a> {
     pub(super) seed: u64,
     /// Per-scan range scale and offset.
     pub(super) bias: (f32, f32),
+    /// The camera's calibration error.
+    pub(super) calibration: CalibrationError,
+    /// The camera's focal length × the projector's baseline (pixel·m).
+    pub(super) focal_baseline: f32,
+    /// The key of the correlated noise's lattice.
+    pub(super) lattice: u64,
     /// The pixels cast: whole blocks over the window's columns, and the window's rows.
     pub(super) cols: Range<usize>,
     pub(super) rows: Range<usize>,
@@ -96,6 +102,9 @@ impl<'a> Capture<'a> {
             region_in_camera: region.map(|reg| reg.corners_in(pose)),
             seed,
             bias,
+            calibration: sensor.calibration_error(),
+            focal_baseline: sensor.focal_baseline(),
+            lattice: Correlated::key(seed),
             cols,
             rows: window.rows.clone(),
             path,

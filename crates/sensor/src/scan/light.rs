@@ -17,6 +17,8 @@ pub(super) struct LitPixel {
     pub(super) t: f32,
     /// Signal strength at the point.
     pub(super) signal: f32,
+    /// The pattern's signal-to-noise ratio (0 without the SNR model).
+    pub(super) snr: f32,
     /// The point's linear colour before the camera's noise.
     pub(super) colour: Vec3,
     /// The surface point the projector must reach (camera frame) and its distance from the
@@ -84,6 +86,16 @@ pub(super) fn illuminate(
     if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
         return None;
     }
+    // the noise filter acts on the SNR where the sensor measures one
+    let snr = if noise.snr.is_on() {
+        let snr = noise.snr.ratio(signal, material.reflectivity);
+        if sensor.processing.filters.noise.removal.removes(snr) {
+            return None;
+        }
+        snr
+    } else {
+        0.0
+    };
     if noise.specular.probability > 0.0 && material.specular > 0.0 {
         // the half vector lies within the lobe: its angle to the normal is below `lobe`
         let half = (light_dir - centre).normalize();
@@ -98,6 +110,7 @@ pub(super) fn illuminate(
         centre,
         t: hit.t,
         signal,
+        snr,
         colour: Vec3::from(material.colour)
             * (light * sensor.colour.exposure + sensor.colour.ambient),
         shadow,

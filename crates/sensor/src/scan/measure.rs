@@ -66,6 +66,9 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         sensor,
         bias,
         pinhole,
+        ref calibration,
+        focal_baseline,
+        lattice,
         ..
     } = *setup;
     let k = &sensor.intrinsics;
@@ -75,6 +78,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         centre,
         t,
         signal,
+        snr,
         colour,
         rng,
         ..
@@ -104,10 +108,23 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     if !sensor.in_range(range * dir.z) {
         return;
     }
-    let sigma = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
+    let axial = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
+    let sigma = if noise.snr.is_on() {
+        let z = range * dir.z;
+        let decoded = noise.snr.sigma_z(snr, z, focal_baseline) / dir.z;
+        (axial * axial + decoded * decoded).sqrt()
+    } else {
+        axial
+    };
     if sigma > 0.0 {
-        range += sigma * rng.normal(stream::AXIAL);
+        let white = rng.normal(stream::AXIAL);
+        let width = k.width as usize;
+        let draw = noise
+            .correlated
+            .draw(white, lattice, col as usize, row as usize, width);
+        range += sigma * draw;
     }
+    range *= calibration.factor(dir);
     if let Model::Kinect {
         projector,
         disparity_sigma_px,
@@ -132,6 +149,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         return;
     }
     px.intensity = signal;
+    px.snr = snr;
     px.rgb = srgb(colour, sensor.colour.noise, rng);
     px.point = dir * range;
 }

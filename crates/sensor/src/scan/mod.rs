@@ -41,6 +41,9 @@ pub struct Pixel {
     pub intensity: f32,
     /// Colour as the camera's colour image records it, sRGB (black where there is no point).
     pub rgb: [u8; 3],
+    /// Signal-to-noise ratio of the decoded pattern, 0 to 255 as Zivid's (0 where there is no
+    /// point, or the sensor has no SNR model).
+    pub snr: f32,
     /// Angle between the surface normal and the direction to the camera, radians.
     pub incidence: f32,
 }
@@ -55,6 +58,7 @@ impl Pixel {
         instance: 0,
         intensity: 0.0,
         rgb: [0; 3],
+        snr: 0.0,
         incidence: f32::NAN,
     };
 

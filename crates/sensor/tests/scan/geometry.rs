@@ -111,6 +111,7 @@ fn clouds_hold_the_kept_pixels_in_pixel_order_with_their_labels() {
         assert_eq!(cloud.xyz[k], p.point * 2.0);
         assert_eq!(cloud.normal[k], p.normal);
         assert_eq!(cloud.intensity[k], p.intensity);
+        assert_eq!((cloud.snr[k], cloud.rgb[k]), (p.snr, p.rgb));
         assert_eq!((cloud.class[k], cloud.instance[k]), (p.class, p.instance));
     }
     assert!(cloud.class.contains(&2) && cloud.class.contains(&3));
@@ -258,6 +259,7 @@ fn same_bytes_for_any_thread_count() {
                         p.class as u32,
                         p.instance,
                         p.intensity.to_bits(),
+                        p.snr.to_bits(),
                         p.incidence.to_bits(),
                     ])
             })

@@ -5,3 +5,4 @@ mod kit;
 mod noise;
 mod regions;
 mod sensors;
+mod zivid;

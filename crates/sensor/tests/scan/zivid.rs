@@ -1,0 +1,271 @@
+//! Zivid's error models by their statistics: the pattern's SNR and the precision it gives, the
+//! noise filter, noise correlated along the projector's stripes, the camera's own calibration
+//! error.
+
+use ::sensor::noise::{Axial, Correlated};
+use ::sensor::*;
+use glam::{Affine3A, Vec3};
+
+use crate::kit::*;
+
+/// A 500×400 structured-light camera (200k pixels) with a projector 0.1 m beside it, converging
+/// at 0.6 m, and the given noise; nothing else.
+fn structured(noise: Noise) -> SensorSpec {
+    let k = small_camera(500, 400, 800.0);
+    SensorSpec {
+        intrinsics: k,
+        model: Model::StructuredLight {
+            projector: Projector {
+                baseline: 0.1,
+                convergence: 0.6,
+                hfov_deg: 60.0,
+                vfov_deg: 50.0,
+            },
+        },
+        noise,
+        reference_range: 0.6,
+        ..ideal(k)
+    }
+}
+
+/// Zivid's SNR model as the presets have it, and nothing else.
+fn snr_noise() -> Noise {
+    Noise {
+        snr: SensorSpec::preset("zivid-2plus-m60").unwrap().noise.snr,
+        ..Noise::default()
+    }
+}
+
+/// A plane facing the camera at depth `z`, of `reflectivity`.
+fn plane(z: f32, reflectivity: f32) -> World {
+    let mut p = facing_plane(z);
+    p.material.reflectivity = reflectivity;
+    World::new(&[p])
+}
+
+/// Depth errors (camera z) of the valid pixels, each divided by `sigma(pixel)`.
+fn z_scores(s: &Scan, sigma: impl Fn(&Pixel) -> f64) -> Vec<f64> {
+    s.pixels
+        .iter()
+        .filter(|p| p.is_valid())
+        .map(|p| (p.point.z - p.clean.z) as f64 / sigma(p))
+        .collect()
+}
+
+#[test]
+fn zivid_precision_is_zivids_point_precision() {
+    // a white surface facing the camera at the M60's focus distance: Zivid's datasheet gives
+    // 0.08 mm point precision
+    let m60 = SensorSpec::preset("zivid-2plus-m60").unwrap();
+    let snr = &m60.noise.snr;
+    let sigma = snr.sigma_z(snr.ratio(1.0, 1.0), 0.6, m60.focal_baseline());
+    assert!((sigma / 8.0e-5 - 1.0).abs() < 0.01, "{sigma}");
+    // 2×2 binning: four pixels' charge on a pixel twice as wide keeps the precision
+    let by2 = m60.binned(2);
+    let s2 = &by2.noise.snr;
+    let sigma2 = s2.sigma_z(s2.ratio(1.0, 1.0), 0.6, by2.focal_baseline());
+    assert!((sigma2 / sigma - 1.0).abs() < 0.02, "{sigma2} vs {sigma}");
+}
+
+#[test]
+fn snr_follows_the_light_and_sets_the_precision() {
+    let spec = structured(snr_noise());
+    let snr = spec.noise.snr;
+    let fb = spec.focal_baseline();
+    let mut precision = Vec::new();
+    for (z, reflectivity) in [(0.6, 1.0), (0.6, 0.12), (1.0, 0.6)] {
+        let s = scan(&plane(z, reflectivity), &spec, &Affine3A::IDENTITY, 1);
+        let valid: Vec<&Pixel> = s.pixels.iter().filter(|p| p.is_valid()).collect();
+        assert!(valid.len() > 150_000, "{}", valid.len());
+        // each point's SNR is the model's for its light; dark and far surfaces have less
+        for p in &valid {
+            assert_eq!(p.snr, snr.ratio(p.intensity, reflectivity));
+        }
+        let mean_snr = valid.iter().map(|p| p.snr as f64).sum::<f64>() / valid.len() as f64;
+        // the depth errors have the σ the SNR gives, pixel by pixel
+        let scores = z_scores(&s, |p| snr.sigma_z(p.snr, p.clean.z, fb) as f64);
+        let (mean, sd) = mean_std(&scores);
+        assert!(
+            (sd - 1.0).abs() < 0.02,
+            "z {z}, ρ {reflectivity}: σ ratio {sd}"
+        );
+        assert!(mean.abs() < 0.01, "{mean}");
+        let (_, sd_z) = mean_std(&z_scores(&s, |_| 1.0));
+        precision.push((mean_snr, sd_z));
+    }
+    let [(white, white_sd), (dark, dark_sd), (far, far_sd)] = precision[..] else {
+        unreachable!()
+    };
+    assert!(
+        white > 50.0 && dark < white / 2.0 && far < white,
+        "{precision:?}"
+    );
+    assert!(
+        dark_sd > 2.0 * white_sd && far_sd > 2.0 * white_sd,
+        "{precision:?}"
+    );
+}
+
+#[test]
+fn the_noise_filter_removes_the_points_below_its_snr_and_nothing_else() {
+    let mut spec = structured(snr_noise());
+    // a dark plane whose SNR crosses 7 across the image (the light falls off from its centre)
+    let world = plane(0.6, 0.032);
+    let open = scan(&world, &spec, &Affine3A::IDENTITY, 3);
+    spec.processing.filters.noise.removal = Removal {
+        enabled: true,
+        threshold: 7.0,
+    };
+    let filtered = scan(&world, &spec, &Affine3A::IDENTITY, 3);
+    let (mut kept, mut removed) = (0, 0);
+    for (a, b) in open.pixels.iter().zip(&filtered.pixels) {
+        if !a.is_valid() {
+            assert!(!b.is_valid());
+        } else if a.snr < 7.0 {
+            assert!(!b.is_valid(), "SNR {} kept", a.snr);
+            removed += 1;
+        } else {
+            assert_eq!(a, b, "a point of SNR {} changed", a.snr);
+            kept += 1;
+        }
+    }
+    assert!(
+        kept > 10_000 && removed > 10_000,
+        "{kept} kept, {removed} removed"
+    );
+}
+
+#[test]
+fn the_snr_model_needs_a_projector() {
+    let tof = tof_camera(snr_noise());
+    let err = tof.validate().unwrap_err().to_string();
+    assert!(err.contains("noise.snr.electrons"), "{err}");
+}
+
+/// The correlation of the depth errors of pixels `lag` apart along `axis` (0: a row, 1: a
+/// column).
+fn correlation(s: &Scan, axis: usize, lag: usize) -> f64 {
+    let w = s.width as usize;
+    let error = |i: usize| {
+        let p = &s.pixels[i];
+        p.is_valid()
+            .then(|| (p.point.length() - p.clean.length()) as f64)
+    };
+    let step = if axis == 0 { lag } else { lag * w };
+    let pairs: Vec<(f64, f64)> = (0..s.pixels.len() - step)
+        .filter(|i| axis == 1 || i % w + lag < w)
+        .filter_map(|i| Some((error(i)?, error(i + step)?)))
+        .collect();
+    let (ma, sa) = mean_std(&pairs.iter().map(|p| p.0).collect::<Vec<_>>());
+    let (mb, sb) = mean_std(&pairs.iter().map(|p| p.1).collect::<Vec<_>>());
+    let cov = pairs.iter().map(|(a, b)| (a - ma) * (b - mb)).sum::<f64>() / pairs.len() as f64;
+    cov / (sa * sb)
+}
+
+#[test]
+fn correlated_noise_runs_along_the_stripes_for_its_length() {
+    let noise = Noise {
+        axial: Axial {
+            sigma: 1e-3,
+            ..Axial::default()
+        },
+        correlated: Correlated {
+            share: 0.8,
+            length_px: 4.0,
+        },
+        ..Noise::default()
+    };
+    let s = noisy_plane(1.0, noise, 5);
+    // the σ stays what the axial model gives
+    let (_, sd) = mean_std(&range_errors(&s));
+    assert!((sd / 1e-3 - 1.0).abs() < 0.03, "σ {sd}");
+    // along a column: strongly correlated next door, not at all two lengths away
+    let near = correlation(&s, 1, 1);
+    assert!(near > 0.6 && near < 0.8, "lag 1 along a column: {near}");
+    let far = correlation(&s, 1, 8);
+    assert!(far.abs() < 0.02, "lag 8 along a column: {far}");
+    // across columns (along the baseline): white
+    let across = correlation(&s, 0, 1);
+    assert!(across.abs() < 0.02, "lag 1 along a row: {across}");
+    // off: white along columns too
+    let white = noisy_plane(
+        1.0,
+        Noise {
+            correlated: Correlated::default(),
+            ..noise
+        },
+        5,
+    );
+    assert!(correlation(&white, 1, 1).abs() < 0.02);
+}
+
+#[test]
+fn the_calibration_error_is_the_cameras_own_and_the_same_every_capture() {
+    let calibration = Calibration {
+        seed: 11,
+        scale: 5e-4,
+        warp: 4e-5,
+    };
+    let spec = SensorSpec {
+        calibration,
+        ..structured(Noise::default())
+    };
+    let world = plane(0.6, 0.6);
+    let one = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    let two = scan(&world, &spec, &Affine3A::IDENTITY, 2);
+    let points = |s: &Scan| -> Vec<[u32; 3]> {
+        s.pixels
+            .iter()
+            .map(|p| p.point.to_array().map(f32::to_bits))
+            .collect()
+    };
+    assert!(
+        points(&one) == points(&two),
+        "the error changed between captures"
+    );
+    let error = spec.calibration_error();
+    for p in one.pixels.iter().filter(|p| p.is_valid()) {
+        // on its ray, the depth scaled by the camera's factor for that direction
+        let dir = p.clean.normalize();
+        assert!(p.point.normalize().dot(dir) > 1.0 - 1e-6);
+        let factor = error.factor(dir);
+        assert!((p.point.z / p.clean.z - factor).abs() < 2e-6);
+    }
+    let other = SensorSpec {
+        calibration: Calibration {
+            seed: 12,
+            ..calibration
+        },
+        ..spec.clone()
+    };
+    assert!(points(&scan(&world, &other, &Affine3A::IDENTITY, 1)) != points(&one));
+    // over many cameras, the scale error at the image centre has the configured σ, and the
+    // warp moves the corners against the centre by about the warp's σ
+    let cameras: Vec<CalibrationError> = (0..4000)
+        .map(|seed| {
+            SensorSpec {
+                calibration: Calibration {
+                    seed,
+                    ..calibration
+                },
+                ..spec.clone()
+            }
+            .calibration_error()
+        })
+        .collect();
+    let centre: Vec<f64> = cameras
+        .iter()
+        .map(|c| (c.factor(Vec3::Z) - 1.0) as f64)
+        .collect();
+    let (m, sd) = mean_std(&centre);
+    let expected = (5e-4f64.powi(2) + (2.0 / 3.0 * 4e-5f64).powi(2)).sqrt();
+    assert!(m.abs() < 3.0 * expected / 4000f64.sqrt(), "{m}");
+    assert!((sd / expected - 1.0).abs() < 0.05, "{sd} vs {expected}");
+    let corner = Vec3::new(250.0 / 800.0, 200.0 / 800.0, 1.0);
+    let bend: Vec<f64> = cameras
+        .iter()
+        .map(|c| (c.factor(corner) - c.factor(Vec3::Z)) as f64)
+        .collect();
+    let (_, bend_sd) = mean_std(&bend);
+    assert!(bend_sd > 2e-5 && bend_sd < 2e-4, "{bend_sd}");
+}
