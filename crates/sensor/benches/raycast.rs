@@ -116,6 +116,39 @@ fn zivid_frame(c: &mut Criterion) {
             pixels = black_box(frame).pixels;
         })
     });
+    // the same frame with one of the preset's error models off, and with none
+    type Off = fn(&mut SensorSpec);
+    let variants: [(&str, Off); 6] = [
+        ("without_snr", |s| s.noise.snr = Default::default()),
+        ("without_correlation", |s| {
+            s.noise.correlated = Default::default()
+        }),
+        ("without_wings", |s| s.noise.wings = Default::default()),
+        ("without_specular", |s| {
+            s.noise.specular = Default::default()
+        }),
+        ("without_calibration_error", |s| {
+            s.calibration = Default::default()
+        }),
+        ("without_noise", |s| {
+            s.noise = Default::default();
+            s.calibration = Default::default();
+        }),
+    ];
+    for (name, off) in variants {
+        let mut spec = sensor.clone();
+        off(&mut spec);
+        g.bench_function(
+            format!("zivid_2plus_m130_frame_200k_triangles_{name}"),
+            |b| {
+                b.iter_batched(
+                    || (),
+                    |()| scan(&world, &spec, &pose, 1),
+                    BatchSize::PerIteration,
+                )
+            },
+        );
+    }
     g.finish();
 }
 

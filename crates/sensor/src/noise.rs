@@ -136,6 +136,8 @@ pub struct Noise {
     pub specular: Specular,
     /// Mixed pixels ("flying pixels", "wings") at depth discontinuities.
     pub edges: Edges,
+    /// Edge wings from the camera's blur of the projected pattern (structured light).
+    pub wings: Wings,
     /// A per-scan systematic error.
     pub bias: Bias,
 }
@@ -373,6 +375,40 @@ impl Default for Edges {
     }
 }
 
+/// Edge wings of a structured-light sensor: the camera's lens blurs the projected pattern (a
+/// Gaussian of σ `psf_px` pixels), so that each pixel receives its neighbours' light with their
+/// stripes. On a smooth surface that changes nothing; near a depth jump or a shadow the pixel
+/// decodes the phase of the sum (the stripes' phasors, weighted by the blur and each surface's
+/// brightness, with `stripes` periods across the projector's field; the period found from the
+/// mean column, as a coarser pattern would), and its point lands on its own ray where that
+/// column's light plane meets it: between the two surfaces, or a period off, a few pixels from
+/// the edge, also into shadows and free space. Its SNR is the summed stripes' modulation over
+/// the summed light's noise, so the noise filter removes the weakest.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Wings {
+    /// σ of the camera's blur, pixels (0 = off).
+    pub psf_px: f32,
+    /// Finest pattern periods across the projector's field.
+    pub stripes: f32,
+}
+
+impl Default for Wings {
+    fn default() -> Wings {
+        Wings {
+            psf_px: 0.0,
+            stripes: 64.0,
+        }
+    }
+}
+
+impl Wings {
+    /// How far, in pixels, the blur reaches (2.5σ: 99 % of its weight in each direction).
+    pub fn radius(&self) -> usize {
+        (2.5 * self.psf_px).ceil() as usize
+    }
+}
+
 /// A per-scan systematic error: range × (1 + N(0, `scale_sigma`)) + N(0, `offset_sigma`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -415,6 +451,7 @@ impl Noise {
             ("dropout.signal_threshold", self.dropout.signal_threshold),
             ("dropout.softness", self.dropout.softness),
             ("edges.jump", self.edges.jump),
+            ("wings.psf_px", self.wings.psf_px),
             ("bias.offset_sigma", self.bias.offset_sigma),
             ("bias.scale_sigma", self.bias.scale_sigma),
         ];
@@ -440,6 +477,20 @@ impl Noise {
                 "correlated.length_px",
                 self.correlated.length_px,
                 "a finite number >= 1",
+            ));
+        }
+        if !(self.wings.stripes >= 1.0 && self.wings.stripes.is_finite()) {
+            return Err(bad(
+                "wings.stripes",
+                self.wings.stripes,
+                "a finite number >= 1",
+            ));
+        }
+        if self.wings.psf_px > 10.0 {
+            return Err(bad(
+                "wings.psf_px",
+                self.wings.psf_px,
+                "a blur of 0 to 10 pixels",
             ));
         }
         if !(self.incidence.max_factor >= 1.0 && self.incidence.max_factor.is_finite()) {

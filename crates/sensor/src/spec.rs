@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::camera::{Distortion, Intrinsics};
-use crate::noise::{Axial, Correlated, Edges, Noise, PixelRng, Snr, Specular, stream};
+use crate::noise::{Axial, Correlated, Noise, PixelRng, Snr, Specular, Wings, stream};
 
 /// A projector beside the camera: at `baseline` metres along camera +x, toed in so that its
 /// optical axis crosses the camera's at `convergence` metres.
@@ -59,6 +59,29 @@ impl Frustum {
         let q = p - self.centre;
         let z = q.dot(self.z_axis);
         z > 0.0 && q.dot(self.x_axis).abs() <= self.tan_x * z && q.y.abs() <= self.tan_y * z
+    }
+
+    /// The projector column that lights camera-frame point `p`, as the tangent of its angle
+    /// from the projector's axis (±`half_width` at the field's edges).
+    #[inline]
+    pub fn column(&self, p: Vec3) -> f32 {
+        let q = p - self.centre;
+        q.dot(self.x_axis) / q.dot(self.z_axis)
+    }
+
+    /// The tangent of half the projector's horizontal field.
+    pub fn half_width(&self) -> f32 {
+        self.tan_x
+    }
+
+    /// The distance along camera ray `dir` (from the camera's centre) to the plane of light of
+    /// projector column `column`; not positive or not finite where the ray does not meet it in
+    /// front of the camera.
+    #[inline]
+    pub fn ray_to_column(&self, dir: Vec3, column: f32) -> f32 {
+        let c = self.centre;
+        (c.dot(self.x_axis) - column * c.dot(self.z_axis))
+            / (dir.dot(self.x_axis) - column * dir.dot(self.z_axis))
     }
 }
 
@@ -289,7 +312,8 @@ fn zivid2(
 
 /// Zivid-like noise: range noise from the pattern's SNR, half its variance correlated along
 /// the stripes over 4 pixels (assumed: Zivid publishes no correlation length), saturation on
-/// shiny metal, wings at edges. A pixel collects 4000 electrons of modulation from a white
+/// shiny metal, wings at edges from a blur of σ 1.5 px (assumed) with 64 stripes across the
+/// projector's field. A pixel collects 4000 electrons of modulation from a white
 /// surface facing the projector at the focus distance, over 15 % ambient light and 10 electrons
 /// of read noise (SNR 58), and its disparity errs by 3.57 px / SNR: on the Zivid 2+ M60 at
 /// 0.6 m that is 0.080 mm, Zivid's point precision for the M60.
@@ -306,9 +330,9 @@ fn zivid_noise() -> Noise {
             length_px: 4.0,
         },
         specular: Specular { probability: 0.8 },
-        edges: Edges {
-            probability: 0.3,
-            jump: 0.005,
+        wings: Wings {
+            psf_px: 1.5,
+            stripes: 64.0,
         },
         ..Noise::default()
     }
@@ -359,8 +383,12 @@ impl SensorSpec {
     /// - `zivid-one-plus-m`: factory intrinsics found in public ZividUtils code (fx 2776.6,
     ///   cx 952.4, cy 597.9, k1 -0.28, k2 0.41, k3 -0.51); its projector and range are assumed
     ///   (0.15 m baseline, 45°×30°, 0.6-1.6 m).
-    /// - Noise: σ ∝ range with 0.1 mm per m (One+ and 2: 0.15), assumed from the order of
-    ///   Zivid's point-precision figures.
+    /// - Zivid noise: the SNR model calibrated to Zivid's point precision for the 2+ M60
+    ///   (0.08 mm at 0.6 m, a third-party transcription of its datasheet); the noise filter at
+    ///   SNR 7 ("SNR should be above 7 to yield good precision", Zivid's knowledge base); the
+    ///   calibration error within Zivid's dimension trueness (< 0.2 %) and global planarity
+    ///   (0.10 mm); the correlation along the stripes (half the variance over 4 pixels) and the
+    ///   lens's blur (σ 1.5 px, 64 stripes across the projector's field) are assumed.
     /// - `blensor-tof`: Blensor's `tof` scanner as the MotorFactory datasets used it: 1280×960,
     ///   43.6°×34.6°, Gaussian range noise (0.6 mm, the middle of SynMotor's 0.2-1.2 mm).
     /// - `kinect-v1`: Blensor's `kinect` parameters: 640×480, 55.64°×43.18°, baseline 0.075 m,
@@ -523,13 +551,14 @@ impl SensorSpec {
 
     /// This sensor with `factor`×`factor` pixel binning: the binned camera (see
     /// [`Intrinsics::binned`]), whose pixels each collect the charge of `factor`² pixels, and
-    /// whose noise correlates over as many fewer pixels.
+    /// whose noise correlates, and whose blur spreads, over as many fewer pixels.
     pub fn binned(&self, factor: u32) -> SensorSpec {
         let mut spec = self.clone();
         spec.intrinsics = self.intrinsics.binned(factor);
         spec.noise.snr.electrons *= (factor * factor) as f32;
         let length = &mut spec.noise.correlated.length_px;
         *length = (*length / factor as f32).max(1.0);
+        spec.noise.wings.psf_px /= factor as f32;
         spec
     }
 
@@ -569,16 +598,16 @@ impl SensorSpec {
     }
 
     /// Memory a scan of this sensor holds at its peak, in bytes: its pixels
-    /// ([`Pixel`](crate::Pixel), 52 bytes) and their working data, 64 bytes a pixel in all
-    /// (measured: 286 MB for a 5 MP scan of a motor).
+    /// ([`Pixel`](crate::Pixel), 56 bytes) and their working data (the wings' among them), 80
+    /// bytes a pixel in all (measured: 402 MB for a 5 MP scan of a motor, the process's peak).
     pub fn scan_memory(&self) -> u64 {
-        const PER_PIXEL: u64 = 64;
+        const PER_PIXEL: u64 = 80;
         u64::from(self.intrinsics.width) * u64::from(self.intrinsics.height) * PER_PIXEL
     }
 
     /// How far, in pixels, a pixel's measurement can reach beyond its own centre ray: lateral
-    /// jitter moves it (16σ bounds any draw), mixed pixels read the adjacent pixels and the
-    /// Kinect window its neighbourhood; plus a pixel for rounding. Range noise keeps a point on
+    /// jitter moves it (16σ bounds any draw), mixed pixels read the adjacent pixels, wings the
+    /// blur's reach and the Kinect window its neighbourhood; plus a pixel for rounding. Range noise keeps a point on
     /// its ray. A point can only lie in a box that its pixel's ray, or one this many pixels
     /// away, crosses.
     pub fn reach_px(&self) -> f32 {
@@ -591,7 +620,11 @@ impl SensorSpec {
         } else {
             0.0
         };
-        1.0 + (16.0 * self.noise.lateral_px).max(edges).max(window)
+        let wings = self.noise.wings.radius() as f32;
+        1.0 + (16.0 * self.noise.lateral_px)
+            .max(edges)
+            .max(window)
+            .max(wings)
     }
 
     /// Checks the camera and the ranges.
@@ -636,6 +669,13 @@ impl SensorSpec {
                 allowed: "0 for a sensor without a projector beside the camera (the SNR model \
                           triangulates)"
                     .into(),
+            });
+        }
+        if self.noise.wings.psf_px > 0.0 && self.projector().is_none() {
+            return Err(Error::Invalid {
+                key: "noise.wings.psf_px".into(),
+                value: self.noise.wings.psf_px.to_string(),
+                allowed: "0 for a sensor without a projector (wings come from its stripes)".into(),
             });
         }
         if let Some(p) = self.projector() {

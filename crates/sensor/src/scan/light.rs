@@ -83,16 +83,13 @@ pub(super) fn illuminate(
     let cos_light = normal.dot(light_dir).max(0.0);
     let light = cos_light * (sensor.reference_range / light_range).powi(2);
     let signal = material.reflectivity * light;
+    // a pixel lost from here on is lit: its signal stays, as its neighbours see it
     if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
+        px.intensity = signal;
         return None;
     }
-    // the noise filter acts on the SNR where the sensor measures one
     let snr = if noise.snr.is_on() {
-        let snr = noise.snr.ratio(signal, material.reflectivity);
-        if sensor.processing.filters.noise.removal.removes(snr) {
-            return None;
-        }
-        snr
+        noise.snr.ratio(signal, material.reflectivity)
     } else {
         0.0
     };
@@ -102,6 +99,7 @@ pub(super) fn illuminate(
         if normal.dot(half) > hit.lobe_cos
             && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
         {
+            px.intensity = signal;
             return None;
         }
     }

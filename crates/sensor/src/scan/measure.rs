@@ -59,17 +59,11 @@ static SRGB: std::sync::LazyLock<[u8; SRGB_STEPS]> = std::sync::LazyLock::new(||
 });
 
 /// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
-/// where it samples (its centre, or a laterally jittered position), whether that surface
-/// lies in the working range, range noise and quantisation.
+/// the noise filter, where it samples (its centre, or a laterally jittered position), whether
+/// that surface lies in the working range, range noise and quantisation.
 pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     let Capture {
-        sensor,
-        bias,
-        pinhole,
-        ref calibration,
-        focal_baseline,
-        lattice,
-        ..
+        sensor, pinhole, ..
     } = *setup;
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
@@ -83,9 +77,14 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         rng,
         ..
     } = *lit;
+    (px.intensity, px.snr) = (signal, snr);
+    // the noise filter acts on the SNR where the sensor measures one
+    if noise.snr.is_on() && sensor.processing.filters.noise.removal.removes(snr) {
+        return;
+    }
     // where this pixel actually samples: its centre, or a laterally jittered position on the
     // tangent plane of the surface it sees
-    let (dir, mut range) = if noise.lateral_px > 0.0 {
+    let (dir, range) = if noise.lateral_px > 0.0 {
         let du = noise.lateral_px * rng.normal(stream::LATERAL);
         let dv = noise.lateral_px * rng.normal(stream::LATERAL + 2);
         let d = if pinhole {
@@ -108,7 +107,37 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     if !sensor.in_range(range * dir.z) {
         return;
     }
-    let axial = noise.axial.sigma_at(range) * noise.incidence.factor(px.incidence);
+    let Some(range) = noisy_range(setup, rng, [col, row], dir, range, snr, px.incidence) else {
+        return;
+    };
+    px.rgb = srgb(colour, sensor.colour.noise, rng);
+    px.point = dir * range;
+}
+
+/// The range a pixel at `pixel` (column, row) measures along camera direction `dir` of a
+/// surface at `range`, with signal-to-noise ratio `snr` and incidence `incidence`: range noise
+/// (axial and from the SNR, white or correlated), the camera's calibration error, a Kinect's
+/// disparity steps, the per-scan bias and quantisation; `None` where no range results.
+pub(super) fn noisy_range(
+    setup: &Capture,
+    rng: PixelRng,
+    [col, row]: [u32; 2],
+    dir: Vec3,
+    mut range: f32,
+    snr: f32,
+    incidence: f32,
+) -> Option<f32> {
+    let Capture {
+        sensor,
+        bias,
+        ref calibration,
+        focal_baseline,
+        lattice,
+        ..
+    } = *setup;
+    let k = &sensor.intrinsics;
+    let noise = &sensor.noise;
+    let axial = noise.axial.sigma_at(range) * noise.incidence.factor(incidence);
     let sigma = if noise.snr.is_on() {
         let z = range * dir.z;
         let decoded = noise.snr.sigma_z(snr, z, focal_baseline) / dir.z;
@@ -137,7 +166,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         let disparity = fb / z + disparity_sigma_px * rng.normal(stream::DISPARITY);
         let disparity = round(disparity * subpixel) / subpixel;
         if disparity <= 0.0 {
-            return;
+            return None;
         }
         range = fb / disparity / dir.z;
     }
@@ -145,13 +174,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     if noise.quantization > 0.0 {
         range = round(range / noise.quantization) * noise.quantization;
     }
-    if range.is_nan() || range <= 0.0 {
-        return;
-    }
-    px.intensity = signal;
-    px.snr = snr;
-    px.rgb = srgb(colour, sensor.colour.noise, rng);
-    px.point = dir * range;
+    (range > 0.0).then_some(range) // (NaN is not)
 }
 
 /// Mixed pixels: an edge pixel may be pulled along its own ray towards its neighbour's depth.

@@ -11,6 +11,7 @@ mod cast;
 mod light;
 mod measure;
 pub mod region;
+mod wings;
 
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
@@ -37,12 +38,13 @@ pub struct Pixel {
     pub class: u16,
     /// Instance id of that surface (0 where nothing was hit).
     pub instance: u32,
-    /// Signal strength: reflectivity × cos(incidence of the light) × (reference / range)².
+    /// Signal strength: reflectivity × cos(incidence of the light) × (reference / range)²; 0
+    /// where the pixel's surface is not lit (a projector's shadow, or no surface).
     pub intensity: f32,
     /// Colour as the camera's colour image records it, sRGB (black where there is no point).
     pub rgb: [u8; 3],
-    /// Signal-to-noise ratio of the decoded pattern, 0 to 255 as Zivid's (0 where there is no
-    /// point, or the sensor has no SNR model).
+    /// Signal-to-noise ratio of the decoded pattern, 0 to 255 as Zivid's (0 where the pixel's
+    /// surface is not lit, or the sensor has no SNR model).
     pub snr: f32,
     /// Angle between the surface normal and the direction to the camera, radians.
     pub incidence: f32,
@@ -220,6 +222,9 @@ fn scan_pixels(
         && window > 0
     {
         window_filter(&mut scan, window as usize, window_fraction, inlier_distance);
+    }
+    if sensor.noise.wings.psf_px > 0.0 {
+        wings::wings(&mut scan, &window, &capture);
     }
     if sensor.noise.edges.probability > 0.0 {
         mixed_pixels(&mut scan, window.rows, sensor, seed);

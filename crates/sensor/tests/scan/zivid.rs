@@ -269,3 +269,137 @@ fn the_calibration_error_is_the_cameras_own_and_the_same_every_capture() {
     let (_, bend_sd) = mean_std(&bend);
     assert!(bend_sd > 2e-5 && bend_sd < 2e-4, "{bend_sd}");
 }
+
+/// A plane at `far` with a plane at `near` over its upper half (y < 0): a horizontal edge,
+/// across the baseline, with no projector shadow.
+fn step(near: f32, far: f32) -> World {
+    let upper = quad(
+        Vec3::new(0.0, -2.5, near),
+        Vec3::X * 5.0,
+        Vec3::Y * 2.5,
+        2,
+        2,
+    );
+    World::new(&[upper, facing_plane(far)])
+}
+
+/// The pixels whose point lies more than 5σ off their own surface (σ from their SNR).
+fn off_surface<'a>(s: &'a Scan, spec: &SensorSpec) -> Vec<(usize, &'a Pixel)> {
+    let (snr, fb) = (spec.noise.snr, spec.focal_baseline());
+    s.pixels
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| {
+            p.is_valid() && (p.point.z - p.clean.z).abs() > 5.0 * snr.sigma_z(p.snr, p.clean.z, fb)
+        })
+        .collect()
+}
+
+#[test]
+fn wings_span_a_few_pixels_from_the_blur_and_lie_on_their_rays() {
+    let (near, far) = (0.6, 0.61);
+    let world = step(near, far);
+    let with = |psf: f32| {
+        let mut noise = snr_noise();
+        noise.wings.psf_px = psf;
+        let mut spec = structured(noise);
+        spec.processing.filters.noise.removal = Removal {
+            enabled: true,
+            threshold: 7.0,
+        };
+        spec
+    };
+    let mut widths = Vec::new();
+    for psf in [0.0, 1.0, 2.0] {
+        let spec = with(psf);
+        let s = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+        let wings = off_surface(&s, &spec);
+        widths.push(wings.len() as f64 / s.width as f64);
+        let reach = (3.0 * psf).ceil() as usize;
+        let sigma = spec.noise.snr.sigma_z(40.0, far, spec.focal_baseline());
+        let mut between = 0;
+        for &(i, p) in &wings {
+            // beside the edge (rows 199 and 200 meet at y = 0), on the pixel's own ray
+            let row = i / s.width as usize;
+            assert!(
+                row + reach >= 199 && row <= 200 + reach,
+                "a wing at row {row}"
+            );
+            assert!(p.point.normalize().dot(p.clean.normalize()) > 1.0 - 1e-6);
+            between += usize::from(p.point.z > near - 3.0 * sigma && p.point.z < far + 3.0 * sigma);
+        }
+        if !wings.is_empty() {
+            let share = between as f64 / wings.len() as f64;
+            assert!(
+                share > 0.9,
+                "psf {psf}: {share} of the wing points between the surfaces"
+            );
+        }
+    }
+    // off: no point leaves its surface; a blur of σ 1 px: about 2 pixels a column (one each
+    // side of the edge), more at σ 2 px (3 to 4: whole pixels whose displacement passes 5σ)
+    let [off, one, two] = widths[..] else {
+        unreachable!()
+    };
+    assert!(off == 0.0, "{off}");
+    assert!(one > 1.5 && one < 3.5, "σ 1 px: {one} pixels a column");
+    assert!(
+        two / one > 1.4 && two / one < 2.5,
+        "σ 2 px: {two} pixels a column"
+    );
+    // a smooth surface is not touched
+    let plane = plane(0.6, 0.6);
+    let a = scan(&plane, &with(0.0), &Affine3A::IDENTITY, 4);
+    let b = scan(&plane, &with(1.5), &Affine3A::IDENTITY, 4);
+    let interior = |s: &Scan| -> Vec<Pixel> {
+        (5..395)
+            .flat_map(|r| s.pixels[r * 500 + 5..r * 500 + 495].to_vec())
+            .collect()
+    };
+    assert!(
+        interior(&a) == interior(&b),
+        "the blur moved points of a smooth plane"
+    );
+}
+
+#[test]
+fn wings_reach_into_the_projectors_shadow() {
+    // a near plane over the right half (x > 0): the projector (at +x) casts its shadow on the
+    // far plane beside the edge, about 12 pixels wide
+    let right = quad(
+        Vec3::new(2.5, 0.0, 0.55),
+        Vec3::X * 2.5,
+        Vec3::Y * 5.0,
+        2,
+        2,
+    );
+    let world = World::new(&[right, facing_plane(0.6)]);
+    let mut noise = snr_noise();
+    let filtered = |noise: Noise| SensorSpec {
+        processing: SensorSpec::preset("zivid-2plus-m60").unwrap().processing,
+        ..structured(noise)
+    };
+    let plain = scan(&world, &filtered(noise), &Affine3A::IDENTITY, 2);
+    noise.wings.psf_px = 1.0;
+    let blurred = scan(&world, &filtered(noise), &Affine3A::IDENTITY, 2);
+    let mut into_shadow = 0;
+    for (a, b) in plain.pixels.iter().zip(&blurred.pixels) {
+        // a pixel of the far plane in the shadow: no light of its own, a point from its
+        // neighbours' light, on its own ray
+        if !a.is_valid() && a.class == 1 && b.is_valid() {
+            assert_eq!(a.intensity, 0.0);
+            assert!(b.point.normalize().dot(a.clean.normalize()) > 1.0 - 1e-6);
+            into_shadow += 1;
+        }
+    }
+    let shadow = plain
+        .pixels
+        .iter()
+        .filter(|p| !p.is_valid() && p.class == 1)
+        .count();
+    assert!(shadow > 400 * 5, "{shadow} shadowed pixels");
+    // the noise filter keeps those the light reaches strongly: a pixel or two on either side
+    // of a shadow 12 pixels wide (400 rows)
+    let per_row = into_shadow as f64 / 400.0;
+    assert!(per_row > 1.0 && per_row < 6.0, "{into_shadow} of {shadow}");
+}

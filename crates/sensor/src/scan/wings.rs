@@ -1,0 +1,312 @@
+//! Edge wings: the camera's blur mixes each pixel's neighbours' stripes into its own, and near
+//! a depth jump or a shadow the pixel decodes a column between theirs (see
+//! [`Wings`](crate::noise::Wings)).
+
+use std::f32::consts::TAU;
+use std::ops::Range;
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::cast::Capture;
+use super::measure::noisy_range;
+use super::{Pixel, Scan, Window};
+use crate::noise::{PixelRng, Snr};
+use crate::spec::Frustum;
+
+/// The light a pixel sends into its neighbours' through the blur: the stripes' phasor and the
+/// column it encodes, each weighted by its modulation.
+#[derive(Clone, Copy, Default)]
+struct Light {
+    /// Modulation (electrons with the SNR model, else the signal).
+    amplitude: f32,
+    /// Modulation × cos and sin of the stripes' phase.
+    phasor: [f32; 2],
+    /// Modulation × the projector column.
+    column: f32,
+    /// Variance of the light's noise (electrons²; 0 without the SNR model).
+    variance: f32,
+}
+
+/// How far depths may bend (second differences, relative to the depth) within the blur before
+/// a pixel is decoded anew: below it, the stripes' phases vary as on a plane, whose blurred
+/// stripes decode to the pixel's own column.
+const JUMP: f32 = 2e-3;
+
+/// Counts over a grid's windows in constant time: the summed-area table of a 0/1 mask.
+struct Counts {
+    width: usize,
+    sums: Vec<u32>,
+}
+
+impl Counts {
+    /// The table of `mask`, `width` wide.
+    fn new(mask: &[bool], width: usize) -> Counts {
+        let (w1, h) = (width + 1, mask.len() / width);
+        let mut sums = vec![0u32; w1 * (h + 1)];
+        for r in 0..h {
+            let (above, here) = sums[r * w1..(r + 2) * w1].split_at_mut(w1);
+            let mut run = 0;
+            for c in 0..width {
+                run += u32::from(mask[r * width + c]);
+                here[c + 1] = above[c + 1] + run;
+            }
+        }
+        Counts { width, sums }
+    }
+
+    /// How many of the mask's cells in `rows` × `cols` are set.
+    fn within(&self, rows: &Range<usize>, cols: &Range<usize>) -> u32 {
+        let at = |r: usize, c: usize| self.sums[r * (self.width + 1) + c];
+        at(rows.end, cols.end) + at(rows.start, cols.start)
+            - at(rows.start, cols.end)
+            - at(rows.end, cols.start)
+    }
+}
+
+/// Decodes anew every pixel of `window` (the pixels cast) whose blur reaches light and a dark
+/// pixel or a bend of the depths.
+pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
+    let sensor = setup.sensor;
+    let Some((frustum, _)) = setup.projector else {
+        return;
+    };
+    let noise = &sensor.noise;
+    let (psf, radius) = (noise.wings.psf_px, noise.wings.radius());
+    let (stride, c0, w, h) = (
+        scan.width as usize,
+        window.cols.start,
+        window.cols.len(),
+        window.rows.len(),
+    );
+    let period = 2.0 * frustum.half_width() / noise.wings.stripes;
+    // the contrast a Gaussian blur leaves of stripes of that period (about as many camera
+    // pixels as the camera's focal length makes of it)
+    let period_px = period * sensor.intrinsics.fx as f32;
+    let smooth = (-2.0 * (std::f32::consts::PI * psf / period_px).powi(2)).exp();
+    // the window's pixel (row, column) in the scan
+    let index = |r: usize, c: usize| (window.rows.start + r) * stride + c0 + c;
+    let pixels = &scan.pixels;
+    let reach = |at: usize, len: usize| at.saturating_sub(radius)..(at + radius + 1).min(len);
+    // a pass over the window's pixels, row by row
+    let grid = |f: &(dyn Fn(usize, usize) -> bool + Sync)| -> Vec<bool> {
+        let mut out = vec![false; h * w];
+        out.par_chunks_mut(w).enumerate().for_each(|(r, line)| {
+            for (c, v) in line.iter_mut().enumerate() {
+                *v = f(r, c);
+            }
+        });
+        out
+    };
+    // the depth of each pixel whose surface the pattern lights (NaN for the dark: a shadow, or
+    // no surface)
+    // and whether it has a point
+    let mut depth = vec![(f32::NAN, false); h * w];
+    depth.par_chunks_mut(w).enumerate().for_each(|(r, line)| {
+        let row = &pixels[index(r, 0)..index(r, 0) + w];
+        for (d, p) in line.iter_mut().zip(row) {
+            if p.intensity > 0.0 {
+                *d = (p.clean.z, p.is_valid());
+            }
+        }
+    });
+    let (depth, valid): (Vec<f32>, Vec<bool>) = depth.into_iter().unzip();
+    let lit = Counts::new(&grid(&|r, c| !depth[r * w + c].is_nan()), w);
+    // where the depths bend, along a row or a column (second differences)
+    let bends = Counts::new(
+        &grid(&|r, c| {
+            let (i, z) = (r * w + c, depth[r * w + c]);
+            let bend = |a: f32, b: f32| (a + b - 2.0 * z).abs() > JUMP * z;
+            (c > 0 && c + 1 < w && bend(depth[i - 1], depth[i + 1]))
+                || (r > 0 && r + 1 < h && bend(depth[i - w], depth[i + w]))
+        }),
+        w,
+    );
+    // the pixels the blur changes, of those with a point and the dark (a lit pixel the sensor
+    // lost keeps its loss): light within reach, and a dark pixel within reach (the image's edge
+    // is not an edge of the scene: the lens images what lies beyond it) or a bend (on a plane,
+    // the blurred stripes decode to the pixel's own column)
+    let changed = grid(&|r, c| {
+        if !(valid[r * w + c] || depth[r * w + c].is_nan()) {
+            return false;
+        }
+        let (rs, cs) = (reach(r, h), reach(c, w));
+        let lit = lit.within(&rs, &cs);
+        lit > 0 && (lit < (rs.len() * cs.len()) as u32 || bends.within(&rs, &cs) > 0)
+    });
+    // the pixels whose light a changed pixel receives are those within reach of one
+    let sinks = Counts::new(&changed, w);
+    // the blur's weights along a row or a column, normalised over the whole window
+    let taps: Vec<f32> = (0..=2 * radius)
+        .map(|k| (-0.5 * ((k as f32 - radius as f32) / psf).powi(2)).exp())
+        .collect();
+    let total: f32 = taps.iter().sum();
+    let taps: Vec<f32> = taps.iter().map(|t| t / total).collect();
+    // the changed pixels decoded, a band of rows at a time, read from the scan as it was
+    // (with the light of the pixels within reach); then written
+    const BAND: usize = 32;
+    let decoded: Vec<Vec<(usize, Pixel)>> = (0..h.div_ceil(BAND))
+        .into_par_iter()
+        .map(|band| {
+            let band_rows = band * BAND..((band + 1) * BAND).min(h);
+            if !changed[band_rows.start * w..band_rows.end * w].contains(&true) {
+                return Vec::new();
+            }
+            let first = band_rows.start.saturating_sub(radius);
+            let lights: Vec<Light> = (first..(band_rows.end + radius).min(h))
+                .flat_map(|r| (0..w).map(move |c| (r, c)))
+                .map(|(r, c)| {
+                    let p = &pixels[index(r, c)];
+                    if p.intensity > 0.0 && sinks.within(&reach(r, h), &reach(c, w)) > 0 {
+                        light(p, &frustum, period, &noise.snr)
+                    } else {
+                        Light::default()
+                    }
+                })
+                .collect();
+            let mut out = Vec::new();
+            for r in band_rows {
+                for c in (0..w).filter(|&c| changed[r * w + c]) {
+                    let mut sum = Light::default();
+                    let mut strongest = (0.0, (r, c));
+                    for rr in reach(r, h) {
+                        let wr = taps[rr + radius - r];
+                        for cc in reach(c, w) {
+                            let l = &lights[(rr - first) * w + cc];
+                            if l.amplitude <= 0.0 {
+                                continue;
+                            }
+                            let weight = wr * taps[cc + radius - c];
+                            sum.amplitude += weight * l.amplitude;
+                            sum.phasor[0] += weight * l.phasor[0];
+                            sum.phasor[1] += weight * l.phasor[1];
+                            sum.column += weight * l.column;
+                            sum.variance += weight * l.variance;
+                            if weight * l.amplitude > strongest.0 {
+                                strongest = (weight * l.amplitude, (rr, cc));
+                            }
+                        }
+                    }
+                    let (i, at) = (index(r, c), [c0 + c, window.rows.start + r]);
+                    let other = &pixels[index(strongest.1.0, strongest.1.1)];
+                    out.push((
+                        i,
+                        decode(setup, &sum, period, smooth, at, &pixels[i], other),
+                    ));
+                }
+            }
+            out
+        })
+        .collect();
+    for (i, px) in decoded.into_iter().flatten() {
+        scan.pixels[i] = px;
+    }
+}
+
+/// The light pixel `p` (lit) sends through the blur.
+fn light(p: &Pixel, frustum: &Frustum, period: f32, snr: &Snr) -> Light {
+    let column = frustum.column(p.clean);
+    let (amplitude, variance) = if snr.is_on() {
+        // the light's noise, as its SNR has it (a lost pixel may have none: shot noise then)
+        let a = p.intensity * snr.electrons;
+        let read = snr.read_electrons * snr.read_electrons;
+        let noise = if p.snr > 0.0 {
+            (a / p.snr).powi(2) - read
+        } else {
+            a
+        };
+        (a, noise.max(a))
+    } else {
+        (p.intensity, 0.0)
+    };
+    let (sin, cos) = (TAU * column / period).sin_cos();
+    Light {
+        amplitude,
+        phasor: [amplitude * cos, amplitude * sin],
+        column: amplitude * column,
+        variance,
+    }
+}
+
+/// Pixel `px` (its column and row) decoded from the light `sum` it receives: its point on its
+/// own ray at the decoded column, with the SNR of that light, or none where the noise filter
+/// removes it or the column's light plane meets the ray out of range.
+fn decode(
+    setup: &Capture,
+    sum: &Light,
+    period: f32,
+    smooth: f32,
+    [c, row]: [usize; 2],
+    px: &Pixel,
+    strongest: &Pixel,
+) -> Pixel {
+    let sensor = setup.sensor;
+    let k = &sensor.intrinsics;
+    let snr_model = sensor.noise.snr;
+    let Some((frustum, _)) = setup.projector else {
+        return *px;
+    };
+    let own = !px.clean.x.is_nan();
+    // without a point the pixel is as it was, less its point
+    let out = Pixel {
+        point: Vec3::NAN,
+        ..*px
+    };
+    if sum.amplitude <= 0.0 {
+        return out;
+    }
+    // the stripes' phase gives the column within a period; the mean column picks the period
+    let mean = sum.column / sum.amplitude;
+    let fine = sum.phasor[1].atan2(sum.phasor[0]) / TAU * period;
+    let column = fine + period * ((mean - fine) / period).round();
+    // the stripes' contrast left after the blur, against what the blur leaves on a smooth
+    // surface (which the SNR model's precision already holds)
+    let contrast = (sum.phasor[0].hypot(sum.phasor[1]) / sum.amplitude / smooth).min(1.0);
+    let snr = if snr_model.is_on() {
+        let read = snr_model.read_electrons * snr_model.read_electrons;
+        (contrast * sum.amplitude / (sum.variance + read).sqrt()).min(255.0)
+    } else {
+        0.0
+    };
+    if snr_model.is_on() && sensor.processing.filters.noise.removal.removes(snr) {
+        return out;
+    }
+    let dir = if own {
+        px.clean.normalize()
+    } else {
+        k.ray(c as f64, row as f64)
+    };
+    let t = frustum.ray_to_column(dir, column);
+    if !(t > 0.0 && sensor.in_range(t * dir.z)) {
+        return out;
+    }
+    let rng = PixelRng::new(setup.seed, (row * k.width as usize + c) as u64);
+    let incidence = if own { px.incidence } else { 0.0 };
+    let at = [c as u32, row as u32];
+    let Some(range) = noisy_range(setup, rng, at, dir, t, snr, incidence) else {
+        return out;
+    };
+    let intensity = if snr_model.is_on() {
+        sum.amplitude / snr_model.electrons
+    } else {
+        sum.amplitude
+    };
+    // a point: the labels and normal of the pixel's own surface, or of the neighbour whose
+    // light dominates where it sees none; the colour of its own point, or that neighbour's
+    let seen = if own {
+        *px
+    } else {
+        Pixel {
+            clean: Vec3::NAN,
+            incidence: f32::NAN,
+            ..*strongest
+        }
+    };
+    Pixel {
+        point: dir * range,
+        snr,
+        intensity,
+        rgb: if px.is_valid() { px.rgb } else { strongest.rgb },
+        ..seen
+    }
+}
