@@ -212,7 +212,7 @@ pub struct NoiseFilter {
 }
 
 /// A filter that removes the points below a threshold: `Processing.Filters.Noise.Removal`
-/// removes the points whose SNR ([`Snr`](crate::noise::Snr)) is below `threshold` (on a
+/// removes the points whose SNR ([`Snr`]) is below `threshold` (on a
 /// sensor that measures an SNR: with the SNR model off, it removes nothing).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
