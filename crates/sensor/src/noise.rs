@@ -97,8 +97,6 @@ pub mod stream {
     pub const LATERAL: u64 = 2;
     /// Random and low-signal dropout.
     pub const DROPOUT: u64 = 6;
-    /// Specular saturation.
-    pub const SPECULAR: u64 = 7;
     /// Mixed pixels at depth edges (decision and blend).
     pub const EDGE: u64 = 8;
     /// Kinect disparity noise.
@@ -132,7 +130,7 @@ pub struct Noise {
     pub quantization: f32,
     /// Missing returns: at random and from low signal.
     pub dropout: Dropout,
-    /// Saturation on shiny metal near the mirror direction.
+    /// Highlights on shiny surfaces, and saturation.
     pub specular: Specular,
     /// Mixed pixels ("flying pixels", "wings") at depth discontinuities.
     pub edges: Edges,
@@ -345,14 +343,38 @@ impl Dropout {
     }
 }
 
-/// Saturation of specular surfaces: where the half vector of the projector and camera
-/// directions lies within the material's lobe of the normal, the pixel is lost with probability
-/// `probability` × the material's `specular`.
+/// Specular highlights and saturation. A material's mirror-like share `specular` reflects the
+/// light as a lobe about the mirror direction, of peak specular / (2·lobe²) × the light (against
+/// a white diffuse surface's 1: the lobe's energy, spread over its solid angle), falling off as
+/// exp(−(1 − cos θ) / lobe²) with θ between the normal and the half vector of the light's and the
+/// camera's directions (about exp(−θ² / (2·lobe²))). It adds to the pixel's signal. A pixel
+/// whose signal exceeds `saturation` saturates: its stripes are clipped and it has no point.
+/// The saturated blob grows as the lobe widens or the exposure rises (a lower `saturation`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Specular {
-    /// Loss probability for a fully specular material in its highlight (0 = off).
-    pub probability: f32,
+    /// Signal at which the camera saturates: 1 is a white diffuse surface facing the light at
+    /// the reference range (0 = highlights off).
+    pub saturation: f32,
+}
+
+impl Specular {
+    /// The highlight's signal of a material of `specular` share whose lobe has sharpness
+    /// 1 / lobe² `sharpness`, at cosine `cos_half` between the normal and the half vector,
+    /// under light `light` (see [`Dropout`] for the signal).
+    #[inline]
+    pub fn highlight(&self, specular: f32, sharpness: f32, cos_half: f32, light: f32) -> f32 {
+        if self.saturation <= 0.0 || specular <= 0.0 {
+            return 0.0;
+        }
+        specular * 0.5 * sharpness * (-(1.0 - cos_half) * sharpness).exp() * light
+    }
+
+    /// Whether a pixel of `signal` saturates.
+    #[inline]
+    pub fn saturates(&self, signal: f32) -> bool {
+        self.saturation > 0.0 && signal > self.saturation
+    }
 }
 
 /// Mixed pixels: a pixel whose 4-neighbour lies more than `jump` metres further or nearer
@@ -449,6 +471,7 @@ impl Noise {
             ("lateral_px", self.lateral_px),
             ("quantization", self.quantization),
             ("dropout.signal_threshold", self.dropout.signal_threshold),
+            ("specular.saturation", self.specular.saturation),
             ("dropout.softness", self.dropout.softness),
             ("edges.jump", self.edges.jump),
             ("wings.psf_px", self.wings.psf_px),
@@ -457,7 +480,6 @@ impl Noise {
         ];
         let shares = [
             ("dropout.rate", self.dropout.rate),
-            ("specular.probability", self.specular.probability),
             ("edges.probability", self.edges.probability),
             ("correlated.share", self.correlated.share),
         ];

@@ -311,8 +311,9 @@ fn zivid2(
 }
 
 /// Zivid-like noise: range noise from the pattern's SNR, half its variance correlated along
-/// the stripes over 4 pixels (assumed: Zivid publishes no correlation length), saturation on
-/// shiny metal, wings at edges from a blur of σ 1.5 px (assumed) with 64 stripes across the
+/// the stripes over 4 pixels (assumed: Zivid publishes no correlation length), highlights that
+/// saturate at 4 times a white surface's signal (an exposure that puts white at a quarter of
+/// the range: assumed), wings at edges from a blur of σ 1.5 px (assumed) with 64 stripes across the
 /// projector's field. A pixel collects 4000 electrons of modulation from a white
 /// surface facing the projector at the focus distance, over 15 % ambient light and 10 electrons
 /// of read noise (SNR 58), and its disparity errs by 3.57 px / SNR: on the Zivid 2+ M60 at
@@ -329,7 +330,7 @@ fn zivid_noise() -> Noise {
             share: 0.5,
             length_px: 4.0,
         },
-        specular: Specular { probability: 0.8 },
+        specular: Specular { saturation: 4.0 },
         wings: Wings {
             psf_px: 1.5,
             stripes: 64.0,

@@ -96,12 +96,13 @@ pub struct World {
     surfaces: Vec<Surface>,
 }
 
-/// A target's instance and material, with the material's lobe cosine worked out once.
+/// A target's instance and material, with the sharpness of the material's lobe worked out
+/// once.
 #[derive(Clone, Copy, Debug)]
 struct Surface {
     instance: u32,
     material: Material,
-    lobe_cos: f32,
+    lobe_sharpness: f32,
 }
 
 /// A ray's hit with everything the sensor models need.
@@ -119,9 +120,9 @@ pub struct SurfaceHit {
     pub instance: u32,
     /// Surface material.
     pub material: Material,
-    /// Cosine of the material's lobe width: the half vector lies in the highlight where its
-    /// cosine to the normal exceeds this.
-    pub lobe_cos: f32,
+    /// Sharpness of the material's specular lobe, 1 / lobe² (see
+    /// [`Specular`](crate::noise::Specular)).
+    pub lobe_sharpness: f32,
 }
 
 impl World {
@@ -154,7 +155,7 @@ impl World {
                 .map(|t| Surface {
                     instance: t.instance,
                     material: t.material,
-                    lobe_cos: t.material.lobe.cos(),
+                    lobe_sharpness: 1.0 / (t.material.lobe * t.material.lobe).max(1e-6),
                 })
                 .collect(),
         }
@@ -235,7 +236,7 @@ impl World {
             class: info.class,
             instance: surface.instance,
             material: surface.material,
-            lobe_cos: surface.lobe_cos,
+            lobe_sharpness: surface.lobe_sharpness,
         }
     }
 }

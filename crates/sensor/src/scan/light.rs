@@ -82,9 +82,21 @@ pub(super) fn illuminate(
     let material = hit.material;
     let cos_light = normal.dot(light_dir).max(0.0);
     let light = cos_light * (sensor.reference_range / light_range).powi(2);
-    let signal = material.reflectivity * light;
+    // the diffuse reflection and the highlight about the mirror direction
+    let highlight = if material.specular > 0.0 && noise.specular.saturation > 0.0 {
+        let half = (light_dir - centre).normalize();
+        let (sharpness, specular) = (hit.lobe_sharpness, material.specular);
+        noise
+            .specular
+            .highlight(specular, sharpness, normal.dot(half), light)
+    } else {
+        0.0
+    };
+    let signal = material.reflectivity * light + highlight;
     // a pixel lost from here on is lit: its signal stays, as its neighbours see it
-    if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal) {
+    if rng.uniform(stream::DROPOUT) < noise.dropout.probability(signal)
+        || noise.specular.saturates(signal)
+    {
         px.intensity = signal;
         return None;
     }
@@ -93,16 +105,6 @@ pub(super) fn illuminate(
     } else {
         0.0
     };
-    if noise.specular.probability > 0.0 && material.specular > 0.0 {
-        // the half vector lies within the lobe: its angle to the normal is below `lobe`
-        let half = (light_dir - centre).normalize();
-        if normal.dot(half) > hit.lobe_cos
-            && rng.uniform(stream::SPECULAR) < noise.specular.probability * material.specular
-        {
-            px.intensity = signal;
-            return None;
-        }
-    }
     Some(LitPixel {
         pixel: [col as u32, row as u32],
         centre,

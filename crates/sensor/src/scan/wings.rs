@@ -33,6 +33,11 @@ struct Light {
 /// stripes decode to the pixel's own column.
 const JUMP: f32 = 2e-3;
 
+/// How far the signal may step between neighbours before the pixels within the blur are decoded
+/// anew: beyond it, the brighter side's stripes pull the darker side's phase (Zivid's contrast
+/// distortion), where the stripes' phase runs across the step.
+const STEP: f32 = 2.5;
+
 /// Counts over a grid's windows in constant time: the summed-area table of a 0/1 mask.
 struct Counts {
     width: usize,
@@ -65,7 +70,7 @@ impl Counts {
 }
 
 /// Decodes anew every pixel of `window` (the pixels cast) whose blur reaches light and a dark
-/// pixel or a bend of the depths.
+/// pixel, a bend of the depths or a step of the signal.
 pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     let sensor = setup.sensor;
     let Some((frustum, _)) = setup.projector else {
@@ -100,25 +105,31 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     };
     // the depth of each pixel whose surface the pattern lights (NaN for the dark: a shadow, or
     // no surface)
-    // and whether it has a point
-    let mut depth = vec![(f32::NAN, false); h * w];
+    // and whether it has a point, and its signal
+    let mut depth = vec![(f32::NAN, false, 0.0); h * w];
     depth.par_chunks_mut(w).enumerate().for_each(|(r, line)| {
         let row = &pixels[index(r, 0)..index(r, 0) + w];
         for (d, p) in line.iter_mut().zip(row) {
             if p.intensity > 0.0 {
-                *d = (p.clean.z, p.is_valid());
+                *d = (p.clean.z, p.is_valid(), p.intensity);
             }
         }
     });
-    let (depth, valid): (Vec<f32>, Vec<bool>) = depth.into_iter().unzip();
+    let valid: Vec<bool> = depth.iter().map(|d| d.1).collect();
+    let signal: Vec<f32> = depth.iter().map(|d| d.2).collect();
+    let depth: Vec<f32> = depth.into_iter().map(|d| d.0).collect();
     let lit = Counts::new(&grid(&|r, c| !depth[r * w + c].is_nan()), w);
-    // where the depths bend, along a row or a column (second differences)
+    // where the depths bend (second differences) or the signal steps, along a row or a column
     let bends = Counts::new(
         &grid(&|r, c| {
             let (i, z) = (r * w + c, depth[r * w + c]);
             let bend = |a: f32, b: f32| (a + b - 2.0 * z).abs() > JUMP * z;
-            (c > 0 && c + 1 < w && bend(depth[i - 1], depth[i + 1]))
-                || (r > 0 && r + 1 < h && bend(depth[i - w], depth[i + w]))
+            let step = |j: usize| {
+                let (a, b) = (signal[i], signal[j]);
+                a > 0.0 && b > 0.0 && a.max(b) > STEP * a.min(b)
+            };
+            (c > 0 && c + 1 < w && (bend(depth[i - 1], depth[i + 1]) || step(i + 1)))
+                || (r > 0 && r + 1 < h && (bend(depth[i - w], depth[i + w]) || step(i + w)))
         }),
         w,
     );
@@ -229,8 +240,9 @@ fn light(p: &Pixel, frustum: &Frustum, period: f32, snr: &Snr) -> Light {
 }
 
 /// Pixel `px` (its column and row) decoded from the light `sum` it receives: its point on its
-/// own ray at the decoded column, with the SNR of that light, or none where the noise filter
-/// removes it or the column's light plane meets the ray out of range.
+/// own ray at the decoded column, with the SNR of that light, or none where that light
+/// saturates it, the noise filter removes it or the column's light plane meets the ray out of
+/// range.
 fn decode(
     setup: &Capture,
     sum: &Light,
@@ -268,7 +280,14 @@ fn decode(
     } else {
         0.0
     };
-    if snr_model.is_on() && sensor.processing.filters.noise.removal.removes(snr) {
+    let intensity = if snr_model.is_on() {
+        sum.amplitude / snr_model.electrons
+    } else {
+        sum.amplitude
+    };
+    // a pixel the blur of a highlight saturates, or the noise filter removes, has no point
+    let removed = snr_model.is_on() && sensor.processing.filters.noise.removal.removes(snr);
+    if removed || sensor.noise.specular.saturates(intensity) {
         return out;
     }
     let dir = if own {
@@ -285,11 +304,6 @@ fn decode(
     let at = [c as u32, row as u32];
     let Some(range) = noisy_range(setup, rng, at, dir, t, snr, incidence) else {
         return out;
-    };
-    let intensity = if snr_model.is_on() {
-        sum.amplitude / snr_model.electrons
-    } else {
-        sum.amplitude
     };
     // a point: the labels and normal of the pixel's own surface, or of the neighbour whose
     // light dominates where it sees none; the colour of its own point, or that neighbour's

@@ -178,33 +178,63 @@ fn kinect_depth_comes_in_disparity_steps_and_the_window_removes_strays() {
 }
 
 #[test]
-fn shiny_surfaces_saturate_near_the_mirror_direction() {
-    let mut plane = facing_plane(1.0);
-    plane.material = Material {
-        specular: 1.0,
-        lobe: 5f32.to_radians(),
-        ..Material::default()
+fn highlights_saturate_a_blob_that_follows_the_lobe_and_the_exposure() {
+    // with the light at the camera, a facing plane's highlight is centred on the axis: a ray θ
+    // off the axis sees the half vector θ off the normal, under light cos³θ (incidence and
+    // range), and saturates where 0.6·cos³θ + cos³θ / (2·lobe²)·e^(−(1 − cos θ)/lobe²) exceeds
+    // the saturation
+    let signal = |theta: f64, lobe: f64| {
+        let light = theta.cos().powi(3);
+        0.6 * light + light / (2.0 * lobe * lobe) * (-(1.0 - theta.cos()) / (lobe * lobe)).exp()
     };
-    let noise = Noise {
-        specular: noise::Specular { probability: 0.5 },
-        ..Noise::default()
-    };
-    let tof = tof_camera(noise);
-    let s = scan(&World::new(&[plane]), &tof, &Affine3A::IDENTITY, 2);
-    // with the light at the camera, the highlight is where the ray meets the plane within 5°
-    let (mut inside, mut lost_inside, mut lost_outside) = (0, 0, 0);
-    for p in &s.pixels {
-        let angle = p.clean.normalize().dot(Vec3::Z).acos();
-        if angle < 4.5f32.to_radians() {
-            inside += 1;
-            lost_inside += !p.is_valid() as usize;
-        } else if angle > 5.5f32.to_radians() {
-            lost_outside += !p.is_valid() as usize;
+    let mut blobs = Vec::new();
+    for (lobe_deg, saturation) in [(3.0f32, 4.0f32), (6.0, 4.0), (6.0, 8.0)] {
+        let mut plane = facing_plane(1.0);
+        plane.material = Material {
+            specular: 1.0,
+            lobe: lobe_deg.to_radians(),
+            ..Material::default()
+        };
+        let noise = Noise {
+            specular: noise::Specular { saturation },
+            ..Noise::default()
+        };
+        let s = scan(
+            &World::new(&[plane]),
+            &tof_camera(noise),
+            &Affine3A::IDENTITY,
+            2,
+        );
+        // the blob's edge: the angle where the signal falls to the saturation
+        let lobe = f64::from(lobe_deg.to_radians());
+        let edge = (0..500_000)
+            .map(|k| k as f64 * 1e-6)
+            .find(|&t| signal(t, lobe) <= f64::from(saturation))
+            .unwrap();
+        let pixel = 1.0 / 800.0; // the camera's angle a pixel near the axis
+        let mut saturated = 0;
+        for p in &s.pixels {
+            let theta = f64::from(p.clean.normalize().dot(Vec3::Z)).acos();
+            if theta < edge - pixel / 4.0 {
+                assert!(!p.is_valid(), "a point inside the blob at {theta}");
+                assert!(p.intensity > saturation, "{}", p.intensity);
+                saturated += 1;
+            } else if theta > edge + pixel / 4.0 {
+                assert!(p.is_valid(), "no point outside the blob at {theta}");
+            }
         }
+        // the blob is the disc of that angle, in pixels of the camera
+        let radius = edge.tan() * 800.0;
+        let expected = std::f64::consts::PI * radius * radius;
+        let ratio = saturated as f64 / expected;
+        assert!(
+            (ratio - 1.0).abs() < 0.05,
+            "lobe {lobe_deg}°: {saturated} vs {expected}"
+        );
+        blobs.push(saturated);
     }
-    let rate = lost_inside as f64 / inside as f64;
-    assert!((rate - 0.5).abs() < 0.03, "{rate} over {inside}");
-    assert_eq!(lost_outside, 0);
+    // a wider lobe saturates more; a shorter exposure (a higher saturation) less
+    assert!(blobs[1] > blobs[0] && blobs[2] < blobs[1], "{blobs:?}");
 }
 
 #[test]

@@ -403,3 +403,65 @@ fn wings_reach_into_the_projectors_shadow() {
     let per_row = into_shadow as f64 / 400.0;
     assert!(per_row > 1.0 && per_row < 6.0, "{into_shadow} of {shadow}");
 }
+
+#[test]
+fn contrast_distortion_pulls_dark_pixels_beside_bright_ones_across_the_baseline_only() {
+    // a plane at 0.6 m, dark (reflectivity 0.05) on one side of a line and white (0.9) on the
+    // other: no depth edge, only a step of brightness
+    let halves = |across: Vec3| {
+        let along = Vec3::Z.cross(across);
+        let half = |sign: f32, reflectivity: f32| {
+            let mut q = quad(
+                Vec3::new(0.0, 0.0, 0.6) + across * 2.5 * sign,
+                across * 2.5,
+                along * 5.0,
+                1,
+                1,
+            );
+            q.material.reflectivity = reflectivity;
+            q
+        };
+        World::new(&[half(-1.0, 0.05), half(1.0, 0.9)])
+    };
+    let mut noise = snr_noise();
+    noise.wings.psf_px = 1.0;
+    let spec = structured(noise);
+    let mut displaced = Vec::new();
+    for across in [Vec3::X, Vec3::Y] {
+        let s = scan(&halves(across), &spec, &Affine3A::IDENTITY, 3);
+        // the largest mean depth error of a line of pixels parallel to the step
+        let lines: Vec<f64> = if across == Vec3::X {
+            (0..500)
+                .map(|c| (0..400).map(|r| &s.pixels[r * 500 + c]).collect::<Vec<_>>())
+                .map(|l| line_error(&l))
+                .collect()
+        } else {
+            (0..400)
+                .map(|r| s.pixels[r * 500..(r + 1) * 500].iter().collect::<Vec<_>>())
+                .map(|l| line_error(&l))
+                .collect()
+        };
+        displaced.push(lines.iter().fold(0.0f64, |m, e| m.max(e.abs())));
+    }
+    // a step across the baseline (along x) pulls the dark side's phase by a good part of a
+    // millimetre; one along it (the stripes' phase constant across it) leaves the depth
+    let sigma = spec.noise.snr.sigma_z(10.0, 0.6, spec.focal_baseline()) as f64;
+    let [across, along] = displaced[..] else {
+        unreachable!()
+    };
+    assert!(across > 3.0 * sigma, "across the baseline: {across} m");
+    assert!(
+        along < across / 10.0,
+        "along the baseline: {along} m vs {across} m"
+    );
+}
+
+/// The mean depth error of the points of a line of pixels.
+fn line_error(line: &[&Pixel]) -> f64 {
+    let errors: Vec<f64> = line
+        .iter()
+        .filter(|p| p.is_valid())
+        .map(|p| f64::from(p.point.z - p.clean.z))
+        .collect();
+    errors.iter().sum::<f64>() / errors.len().max(1) as f64
+}
