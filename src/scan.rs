@@ -14,10 +14,13 @@ use crate::error::{CliError, CliResult, choice};
 /// Scan meshes with a simulated depth sensor and write the cloud and images.
 #[derive(Debug, Args)]
 pub struct ScanCmd {
-    /// A mesh to scan (OBJ, STL or PLY; repeatable). Each file is its own instance; a PLY written
-    /// by `motorfactory motor` keeps its per-part classes and instances.
+    /// A mesh to scan (OBJ, STL or PLY; repeatable), FILE or FILE@MATERIAL. Each file is its own
+    /// instance; a PLY written by `motorfactory motor` keeps its per-part classes and instances.
     #[arg(long = "mesh", required = true)]
-    meshes: Vec<PathBuf>,
+    meshes: Vec<String>,
+    /// The material of the meshes given without one (see `sensor::MATERIALS`).
+    #[arg(long, default_value = "grey-plastic")]
+    material: String,
     /// Sensor preset, or a TOML file with a full sensor specification.
     #[arg(long, default_value = "zivid-2plus-m130")]
     sensor: String,
@@ -101,21 +104,36 @@ impl ScanCmd {
         let spec = spec.binned(self.binning);
         spec.validate()
             .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
-        // the meshes are read whole, then held as targets and in the BVH: about four times
-        // their files' size
-        let meshes: u64 = self
+        // each mesh file and its material: FILE@MATERIAL, or FILE with --material's (a file
+        // whose name holds an @ is taken whole)
+        let material = |flag: &str, name: &str| {
+            sensor::Material::named(name).map_err(|e| CliError::Usage(format!("{flag}: {e}")))
+        };
+        let default = material("--material", &self.material)?;
+        let meshes = self
             .meshes
             .iter()
-            .filter_map(|m| std::fs::metadata(m).ok())
+            .map(|mesh| match mesh.rsplit_once('@') {
+                Some((path, name)) if !Path::new(mesh).exists() => {
+                    Ok((Path::new(path), material(&format!("--mesh {mesh}"), name)?))
+                }
+                _ => Ok((Path::new(mesh.as_str()), default)),
+            })
+            .collect::<CliResult<Vec<_>>>()?;
+        // the meshes are read whole, then held as targets and in the BVH: about four times
+        // their files' size
+        let bytes: u64 = meshes
+            .iter()
+            .filter_map(|(path, _)| std::fs::metadata(path).ok())
             .map(|m| m.len())
             .sum();
         crate::memory::ensure_fits(
-            spec.scan_memory().saturating_add(meshes.saturating_mul(4)),
+            spec.scan_memory().saturating_add(bytes.saturating_mul(4)),
             &format!(
                 "a scan with a {}x{} sensor of {} of meshes",
                 spec.intrinsics.width,
                 spec.intrinsics.height,
-                crate::memory::size(meshes)
+                crate::memory::size(bytes)
             ),
             "scan at a lower resolution (--binning 2 or 4) or a smaller mesh",
         )?;
@@ -157,7 +175,7 @@ impl ScanCmd {
             .map(|f| choice("format", f, &CloudFormat::ALL.map(|c| (c.name(), c))))
             .collect::<CliResult<Vec<_>>>()?;
         let mut targets = Vec::new();
-        for path in &self.meshes {
+        for &(path, material) in &meshes {
             let offset = targets
                 .iter()
                 .map(|t: &sensor::Target| t.instance)
@@ -169,6 +187,7 @@ impl ScanCmd {
                     .into_iter()
                     .map(|mut t| {
                         t.instance += offset;
+                        t.material = material;
                         t
                     }),
             );

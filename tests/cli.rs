@@ -333,6 +333,45 @@ fn scan_of_a_motor_keeps_its_labels() {
 }
 
 #[test]
+fn scan_meshes_take_their_material_from_the_library() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = coarse_motor(dir.path(), &["--format", "ply"]);
+    let motor = m.join("motor.ply");
+    // the motor's mean signal and SNR in black plastic and in white plastic
+    let signal = |mesh: String, extra: &[&str]| {
+        let out = dir.path().join(format!("s{}", extra.len() + mesh.len()));
+        let mut args = vec!["scan", "--mesh", &mesh, "--binning", "4"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--look-at", "0.05,-0.9,0.6,0,0,0.09", "--format", "ply"]);
+        args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+        let o = run(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let ply = std::fs::read(out.join("cloud.ply")).unwrap();
+        let body = ply
+            .split_at(ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11)
+            .1;
+        // x y z nx ny nz intensity snr (float), rgb, class, instance: 41 bytes a point
+        let n = body.len() / 41;
+        let mean = |at: usize| {
+            body.chunks_exact(41)
+                .map(|r| f32::from_le_bytes(r[at..at + 4].try_into().unwrap()) as f64)
+                .sum::<f64>()
+                / n as f64
+        };
+        (mean(24), mean(28))
+    };
+    let path = motor.to_str().unwrap();
+    let dark = signal(format!("{path}@black-pa66"), &[]);
+    let white = signal(format!("{path}@white-plastic"), &[]);
+    let by_flag = signal(path.to_string(), &["--material", "black-pa66"]);
+    assert_eq!(dark, by_flag);
+    assert!(
+        white.0 > 2.0 * dark.0 && white.1 > 1.3 * dark.1,
+        "{white:?} vs {dark:?}"
+    );
+}
+
+#[test]
 fn scan_bad_input_exits_2_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("never");
@@ -350,6 +389,7 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
     spec = spec.replace("fx = 2481.0", "fx = -1.0");
     std::fs::write(&bad_sensor, spec).unwrap();
     let cube_s = cube.to_str().unwrap();
+    let cube_unobtainium = format!("{cube_s}@unobtainium");
     let la = "0,0,-2,0,0,0";
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
@@ -411,6 +451,32 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
                 o_str,
             ],
             "expected obj, stl or ply",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                &cube_unobtainium,
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "material = \"unobtainium\" is not allowed: expected one of black-pa66,",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--material",
+                "chrome",
+                "--look-at",
+                la,
+                "--out",
+                o_str,
+            ],
+            "--material: material = \"chrome\" is not allowed",
         ),
         (
             vec![
@@ -511,6 +577,25 @@ fn the_documented_custom_sensor_is_a_valid_sensor() {
     spec.validate().unwrap();
     assert_eq!(spec.noise.axial.per_metre, 1.5e-4);
     assert!(matches!(spec.model, sensor::Model::StructuredLight { .. }));
+}
+
+#[test]
+fn the_documented_materials_are_the_library() {
+    let doc = std::fs::read_to_string("docs/sensors.md").unwrap();
+    let table = doc.split("## Materials").nth(1).unwrap();
+    let rows: Vec<Vec<String>> = table
+        .lines()
+        .filter(|l| l.starts_with("| `"))
+        .map(|l| l.split('|').map(|c| c.trim().to_string()).collect())
+        .collect();
+    assert_eq!(rows.len(), sensor::MATERIALS.len());
+    for (row, (name, m)) in rows.iter().zip(sensor::MATERIALS) {
+        let colour = m.colour.map(|c| format!("{c:.2}")).join(", ");
+        let values = [m.reflectivity, m.specular, m.lobe].map(|v| v.to_string());
+        assert_eq!(row[1], format!("`{name}`"));
+        assert_eq!(row[2..5], values, "{name}");
+        assert_eq!(row[5], colour, "{name}");
+    }
 }
 
 #[test]

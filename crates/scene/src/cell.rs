@@ -5,6 +5,10 @@ use glam::{Affine3A, EulerRot, Mat3, Vec2, Vec3};
 use motorgen::kernel::{Aabb, Extrusion, Mesh, cuboid, extrude};
 use motorgen::{Motor, PartKind, Scheme};
 use rand::{Rng, RngExt};
+use sensor::materials::{
+    BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, MATTE_GREY, STAINLESS_STEEL,
+    WHITE_PLASTIC, ZINC_PLATED_STEEL,
+};
 use sensor::{Classes, Material, Target};
 
 use crate::config::{CellConfig, Shift};
@@ -165,7 +169,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         &mut objects,
         "table".into(),
         cuboid(Vec3::new(-0.6, -0.6, -0.02), Vec3::new(0.6, 0.6, 0.0)),
-        TABLE,
+        LAMINATE,
     );
     for (name, mesh, material) in fixture(&pot, &motor_box, PLATE, &shifts) {
         add(&mut objects, name.into(), mesh, material);
@@ -208,7 +212,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
                 &mut objects,
                 format!("panel_{}", i + 1),
                 panel.transformed(&pose),
-                PANEL,
+                MATTE_GREY,
             );
         }
     }
@@ -243,48 +247,18 @@ impl Cell {
     }
 }
 
-const fn mat(reflectivity: f32, specular: f32, lobe: f32, colour: [f32; 3]) -> Material {
-    Material {
-        reflectivity,
-        specular,
-        lobe,
-        colour,
-    }
-}
-
-/// A neutral colour of albedo `a`.
-const fn grey(a: f32) -> [f32; 3] {
-    [a, a, a]
-}
-
-/// Light grey table top.
-const TABLE: Material = mat(0.55, 0.0, 0.2, grey(0.55));
-/// Matte grey mask panel.
-const PANEL: Material = mat(0.5, 0.0, 0.2, grey(0.5));
-/// White base plate.
-pub(crate) const PLATE_MATERIAL: Material = mat(0.8, 0.05, 0.3, grey(0.8));
-/// Blue anodised jaws.
-pub(crate) const JAW: Material = mat(0.3, 0.1, 0.25, [0.06, 0.16, 0.45]);
-/// Brushed aluminium (pillar, cylinder).
-pub(crate) const ALUMINIUM: Material = mat(0.6, 0.4, 0.15, [0.6, 0.6, 0.62]);
-/// Black glass-filled plastic (PA66) of the gear container and the cover: one material, so
-/// that colour does not tell the two apart.
-const BLACK_PLASTIC: Material = mat(0.12, 0.15, 0.3, grey(0.12));
-
-/// The sensor material of a motor part, from the add-on's colours and metalness: polished
-/// steel pole pot and zinc-plated bolts are specular, black plastic is dark, the armature's
-/// windings copper.
+/// The sensor material of a motor part, from the add-on's colours and metalness: the pole pot
+/// stainless steel and the bolts zinc-plated, specular; the gear container and the cover one
+/// black plastic (so that colour does not tell the two apart); the armature's windings copper.
 pub fn material(kind: PartKind) -> Material {
     match kind {
-        PartKind::PolePot => mat(0.45, 0.6, 0.15, [0.45, 0.45, 0.47]),
-        PartKind::SideBolt | PartKind::CoverBolt => mat(0.7, 0.8, 0.1, [0.7, 0.7, 0.72]),
-        PartKind::GearContainer | PartKind::Cover => BLACK_PLASTIC,
-        PartKind::ElectricConnection => mat(0.6, 0.0, 0.2, grey(0.6)),
-        PartKind::Magnet => mat(0.1, 0.0, 0.2, grey(0.1)),
-        PartKind::Armature => mat(0.5, 0.5, 0.2, [0.66, 0.42, 0.26]),
-        PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => {
-            mat(0.8, 0.05, 0.3, [0.8, 0.8, 0.78])
-        }
+        PartKind::PolePot => STAINLESS_STEEL,
+        PartKind::SideBolt | PartKind::CoverBolt => ZINC_PLATED_STEEL,
+        PartKind::GearContainer | PartKind::Cover => BLACK_PA66,
+        PartKind::ElectricConnection => GREY_PLASTIC,
+        PartKind::Magnet => FERRITE,
+        PartKind::Armature => COPPER,
+        PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => WHITE_PLASTIC,
     }
 }
 

@@ -5,8 +5,9 @@
 use glam::Vec3;
 use motorgen::kernel::{Aabb, Mesh, cuboid};
 use sensor::Material;
+use sensor::materials::{ALUMINIUM, ANODISED_ALUMINIUM, WHITE_PLASTIC};
 
-use crate::cell::{ALUMINIUM, JAW, PLATE_MATERIAL, cylinder};
+use crate::cell::cylinder;
 
 /// How far each part moved from its rest position, m.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -58,9 +59,9 @@ pub fn fixture(
         + shift.cylinder;
     let cyl = cylinder(cyl_start, cyl_start + Vec3::new(0.0, 0.08, 0.0), 0.012, 24);
     vec![
-        ("base_plate", base, PLATE_MATERIAL),
-        ("fixed_jaw", fixed, JAW),
-        ("sliding_jaw", sliding, JAW),
+        ("base_plate", base, WHITE_PLASTIC),
+        ("fixed_jaw", fixed, ANODISED_ALUMINIUM),
+        ("sliding_jaw", sliding, ANODISED_ALUMINIUM),
         ("pillar", pillar, ALUMINIUM),
         ("cylinder", cyl, ALUMINIUM),
     ]

@@ -44,6 +44,7 @@ pub mod cloud;
 mod epipolar;
 mod error;
 pub mod formats;
+pub mod materials;
 pub mod mesh;
 pub mod noise;
 pub mod scan;
@@ -55,6 +56,7 @@ pub use bvh::{Bvh, Hit};
 pub use camera::{Distortion, Intrinsics, look_at};
 pub use cloud::{Frame, PointCloud, Units};
 pub use error::Error;
+pub use materials::MATERIALS;
 pub use noise::Noise;
 pub use scan::{Pixel, Region, Scan, nearest_surface, scan, scan_reusing, scan_within};
 pub use spec::{
