@@ -1,13 +1,15 @@
 //! Scanning: one organized H×W grid of returns per scan, in the camera frame.
 //!
-//! A scan is made in four steps, a module each: [`region`] limits the pixels cast to those
+//! A scan is made in steps, a module each: [`region`] limits the pixels cast to those
 //! that can see a region; `cast` finds each pixel's first surface and the projector's shadows,
 //! along one of two paths (rows cut in their epipolar planes, or blocks of rays cast as packets
 //! through the BVH); `light` labels a pixel and decides its signal and losses; `measure` turns a
 //! lit pixel into a point with noise and makes the neighbour effects (mixed pixels, the Kinect
-//! window).
+//! window); `wings` decodes pixels near edges from their neighbours' blurred stripes, and
+//! `filters` applies Zivid's point-cloud filters.
 
 mod cast;
+mod filters;
 mod light;
 mod measure;
 pub mod region;
@@ -227,8 +229,9 @@ fn scan_pixels(
         wings::wings(&mut scan, &window, &capture);
     }
     if sensor.noise.edges.probability > 0.0 {
-        mixed_pixels(&mut scan, window.rows, sensor, seed);
+        mixed_pixels(&mut scan, window.rows.clone(), sensor, seed);
     }
+    filters::filter(&mut scan, &window, &sensor.processing.filters);
     scan
 }
 

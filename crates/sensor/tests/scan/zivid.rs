@@ -3,6 +3,7 @@
 //! error.
 
 use ::sensor::noise::{Axial, Correlated};
+use ::sensor::spec::Gaussian;
 use ::sensor::*;
 use glam::{Affine3A, Vec3};
 
@@ -464,4 +465,99 @@ fn line_error(line: &[&Pixel]) -> f64 {
         .map(|p| f64::from(p.point.z - p.clean.z))
         .collect();
     errors.iter().sum::<f64>() / errors.len().max(1) as f64
+}
+
+#[test]
+fn the_outlier_filter_removes_lone_points_and_nothing_else() {
+    // a plane at 0.6 m and, 10 cm before it, a speck only pixel (250, 200)'s ray meets
+    let ray = Vec3::new(0.5 / 800.0, 0.5 / 800.0, 1.0);
+    let speck = quad(ray * 0.5, Vec3::X * 1.2e-4, Vec3::Y * 1.2e-4, 2, 2);
+    let world = World::new(&[speck, facing_plane(0.6)]);
+    let mut spec = tof_camera(Noise::default());
+    let open = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    assert_eq!(open.pixels.iter().filter(|p| p.class == 2).count(), 1);
+    spec.processing.filters.outlier.removal = Removal {
+        enabled: true,
+        threshold: 5.0,
+    };
+    let filtered = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    for (a, b) in open.pixels.iter().zip(&filtered.pixels) {
+        if a.class == 2 {
+            assert!(a.is_valid() && !b.is_valid(), "the speck stayed");
+            assert_eq!(a.instance, b.instance);
+        } else {
+            assert_eq!(a, b, "a point of the plane changed");
+        }
+    }
+}
+
+#[test]
+fn gaussian_smoothing_lowers_the_noise_as_its_weights_do_and_keeps_a_plane() {
+    let sigma = 1.5f32;
+    let smoothing = |spec: &mut SensorSpec| {
+        spec.processing.filters.smoothing.gaussian = Gaussian {
+            enabled: true,
+            sigma,
+        }
+    };
+    // white noise of 1 mm along the rays of a facing plane: the weights' own ratio
+    let noise = Noise {
+        axial: Axial {
+            sigma: 1e-3,
+            ..Axial::default()
+        },
+        ..Noise::default()
+    };
+    let mut spec = tof_camera(noise);
+    smoothing(&mut spec);
+    let s = scan(
+        &World::new(&[facing_plane(1.0)]),
+        &spec,
+        &Affine3A::IDENTITY,
+        7,
+    );
+    let interior = |s: &Scan| -> Vec<Pixel> {
+        (8..392)
+            .flat_map(|r| s.pixels[r * 500 + 8..r * 500 + 492].to_vec())
+            .collect()
+    };
+    let errors: Vec<f64> = interior(&s)
+        .iter()
+        .map(|p| f64::from(p.point.z - p.clean.z))
+        .collect();
+    let (_, sd) = mean_std(&errors);
+    let radius = (2.5 * sigma).ceil() as i32;
+    let taps: Vec<f64> = (-radius..=radius)
+        .map(|k| (-0.5 * (k as f64 / f64::from(sigma)).powi(2)).exp())
+        .collect();
+    let (sum, squares): (f64, f64) = (taps.iter().sum(), taps.iter().map(|t| t * t).sum());
+    let expected = 1e-3 * squares / (sum * sum); // sqrt(Σw²)/Σw in 2D, of separable weights
+    assert!((sd / expected - 1.0).abs() < 0.05, "σ {sd} vs {expected}");
+    // a tilted plane without noise keeps its points (inverse depth is linear in the image),
+    // and every pixel its labels and whether it has a point
+    let tilted = quad(
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 0.6) * 3.0,
+        Vec3::Y * 3.0,
+        1,
+        1,
+    );
+    let world = World::new(&[tilted]);
+    let mut exact = tof_camera(Noise::default());
+    let plain = scan(&world, &exact, &Affine3A::IDENTITY, 1);
+    smoothing(&mut exact);
+    let smoothed = scan(&world, &exact, &Affine3A::IDENTITY, 1);
+    for (a, b) in interior(&plain).iter().zip(&interior(&smoothed)) {
+        assert!(
+            (a.point - b.point).length() < 1e-6 * a.point.length(),
+            "{a:?} {b:?}"
+        );
+    }
+    for (a, b) in plain.pixels.iter().zip(&smoothed.pixels) {
+        assert_eq!(
+            (a.is_valid(), a.class, a.instance),
+            (b.is_valid(), b.class, b.instance)
+        );
+        assert!(!a.is_valid() || b.point.normalize().dot(a.point.normalize()) > 1.0 - 1e-6);
+    }
 }
