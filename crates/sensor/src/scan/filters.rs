@@ -4,7 +4,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{Scan, Window};
+use super::{Scan, Window, gaussian};
 use crate::spec::Filters;
 
 /// Applies the enabled filters of `filters` to the pixels of `window`: outliers first, then
@@ -63,9 +63,7 @@ fn smooth(scan: &mut Scan, window: &Window, sigma: f32) {
     let (w, h) = (window.cols.len(), window.rows.len());
     let inverse: Vec<f32> = points(scan, window).iter().map(|p| 1.0 / p.z).collect();
     let radius = (2.5 * sigma).ceil() as usize;
-    let taps: Vec<f32> = (0..=2 * radius)
-        .map(|k| (-0.5 * ((k as f32 - radius as f32) / sigma).powi(2)).exp())
-        .collect();
+    let taps = gaussian(sigma, radius);
     let stride = scan.width as usize;
     scan.pixels[window.rows.start * stride..window.rows.end * stride]
         .par_chunks_mut(stride)

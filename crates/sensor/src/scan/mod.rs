@@ -235,6 +235,13 @@ fn scan_pixels(
     scan
 }
 
+/// The weights of a Gaussian of σ `sigma` at offsets -`radius`..=`radius` (unnormalised).
+fn gaussian(sigma: f32, radius: usize) -> Vec<f32> {
+    (0..=2 * radius)
+        .map(|k| (-0.5 * ((k as f32 - radius as f32) / sigma).powi(2)).exp())
+        .collect()
+}
+
 /// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB) where it can: a
 /// fresh megapixel buffer then takes hundreds of page faults instead of tens of thousands.
 #[cfg(target_os = "linux")]

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 
 use super::cast::Capture;
 use super::measure::noisy_range;
-use super::{Pixel, Scan, Window};
+use super::{Pixel, Scan, Window, gaussian};
 use crate::noise::{PixelRng, Snr};
 use crate::spec::Frustum;
 
@@ -148,9 +148,7 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     // the pixels whose light a changed pixel receives are those within reach of one
     let sinks = Counts::new(&changed, w);
     // the blur's weights along a row or a column, normalised over the whole window
-    let taps: Vec<f32> = (0..=2 * radius)
-        .map(|k| (-0.5 * ((k as f32 - radius as f32) / psf).powi(2)).exp())
-        .collect();
+    let taps = gaussian(psf, radius);
     let total: f32 = taps.iter().sum();
     let taps: Vec<f32> = taps.iter().map(|t| t / total).collect();
     // the changed pixels decoded, a band of rows at a time, read from the scan as it was
