@@ -177,27 +177,34 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
             for r in band_rows {
                 for c in (0..w).filter(|&c| changed[r * w + c]) {
                     let mut sum = Light::default();
-                    let mut strongest = (0.0, (r, c));
                     for rr in reach(r, h) {
                         let wr = taps[rr + radius - r];
-                        for cc in reach(c, w) {
-                            let l = &lights[(rr - first) * w + cc];
-                            if l.amplitude <= 0.0 {
-                                continue;
-                            }
+                        let line = &lights[(rr - first) * w..(rr - first + 1) * w];
+                        for (cc, l) in reach(c, w).zip(&line[reach(c, w)]) {
                             let weight = wr * taps[cc + radius - c];
                             sum.amplitude += weight * l.amplitude;
                             sum.phasor[0] += weight * l.phasor[0];
                             sum.phasor[1] += weight * l.phasor[1];
                             sum.column += weight * l.column;
                             sum.variance += weight * l.variance;
-                            if weight * l.amplitude > strongest.0 {
-                                strongest = (weight * l.amplitude, (rr, cc));
-                            }
                         }
                     }
+                    // the neighbour whose light dominates, for a pixel that sees no surface
+                    let strongest = if pixels[index(r, c)].clean.x.is_nan() {
+                        let weighted = |&(rr, cc): &(usize, usize)| {
+                            taps[rr + radius - r]
+                                * taps[cc + radius - c]
+                                * lights[(rr - first) * w + cc].amplitude
+                        };
+                        reach(r, h)
+                            .flat_map(|rr| reach(c, w).map(move |cc| (rr, cc)))
+                            .max_by(|a, b| weighted(a).total_cmp(&weighted(b)))
+                            .unwrap_or((r, c))
+                    } else {
+                        (r, c)
+                    };
                     let (i, at) = (index(r, c), [c0 + c, window.rows.start + r]);
-                    let other = &pixels[index(strongest.1.0, strongest.1.1)];
+                    let other = &pixels[index(strongest.0, strongest.1)];
                     out.push((
                         i,
                         decode(setup, &sum, period, smooth, at, &pixels[i], other),
