@@ -170,16 +170,17 @@ pub struct CalibrationError {
     bowl: f32,
     saddle: f32,
     twist: f32,
-    /// Image x over z, and y over z, at the edges of the image (u, v = ±1).
-    half_field: [f32; 2],
+    /// The inverse of image x over z, and of y over z, at the edges of the image (u, v = ±1).
+    per_field: [f32; 2],
 }
 
 impl CalibrationError {
     /// The factor on the depth of a point in camera direction `dir`.
     #[inline]
     pub fn factor(&self, dir: Vec3) -> f32 {
-        let u = dir.x / dir.z / self.half_field[0];
-        let v = dir.y / dir.z / self.half_field[1];
+        let over_z = 1.0 / dir.z;
+        let u = dir.x * over_z * self.per_field[0];
+        let v = dir.y * over_z * self.per_field[1];
         1.0 + self.scale
             + self.bowl * (u * u + v * v - 2.0 / 3.0)
             + self.saddle * (u * u - v * v)
@@ -612,22 +613,26 @@ impl SensorSpec {
         spec
     }
 
-    /// The calibration error of this camera, drawn from its calibration seed.
-    pub fn calibration_error(&self) -> CalibrationError {
+    /// The calibration error of this camera, drawn from its calibration seed; none for a
+    /// camera without one.
+    pub fn calibration_error(&self) -> Option<CalibrationError> {
         let c = &self.calibration;
+        if c.scale == 0.0 && c.warp == 0.0 {
+            return None;
+        }
         let rng = PixelRng::new(c.seed, u64::MAX);
         let draw = |k: u64| rng.normal(stream::CALIBRATION + k);
         let k = &self.intrinsics;
-        CalibrationError {
+        Some(CalibrationError {
             scale: c.scale * draw(0),
             bowl: c.warp * draw(1),
             saddle: c.warp * draw(2),
             twist: c.warp * draw(3),
-            half_field: [
-                (f64::from(k.width) / 2.0 / k.fx) as f32,
-                (f64::from(k.height) / 2.0 / k.fy) as f32,
+            per_field: [
+                (k.fx / (f64::from(k.width) / 2.0)) as f32,
+                (k.fy / (f64::from(k.height) / 2.0)) as f32,
             ],
-        }
+        })
     }
 
     /// The product of the camera's focal length (pixels) and the projector's baseline (m),

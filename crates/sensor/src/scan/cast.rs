@@ -36,8 +36,8 @@ pub(super) struct Capture<'a> {
     pub(super) seed: u64,
     /// Per-scan range scale and offset.
     pub(super) bias: (f32, f32),
-    /// The camera's calibration error.
-    pub(super) calibration: CalibrationError,
+    /// The camera's calibration error, if it has one.
+    pub(super) calibration: Option<CalibrationError>,
     /// The camera's focal length × the projector's baseline (pixel·m).
     pub(super) focal_baseline: f32,
     /// The key of the correlated noise's lattice.

@@ -153,7 +153,9 @@ pub(super) fn noisy_range(
             .draw(white, lattice, col as usize, row as usize, width);
         range += sigma * draw;
     }
-    range *= calibration.factor(dir);
+    if let Some(error) = calibration {
+        range *= error.factor(dir);
+    }
     if let Model::Kinect {
         projector,
         disparity_sigma_px,

@@ -224,7 +224,8 @@ fn the_calibration_error_is_the_cameras_own_and_the_same_every_capture() {
         points(&one) == points(&two),
         "the error changed between captures"
     );
-    let error = spec.calibration_error();
+    let error = spec.calibration_error().unwrap();
+    assert!(structured(Noise::default()).calibration_error().is_none());
     for p in one.pixels.iter().filter(|p| p.is_valid()) {
         // on its ray, the depth scaled by the camera's factor for that direction
         let dir = p.clean.normalize();
@@ -252,6 +253,7 @@ fn the_calibration_error_is_the_cameras_own_and_the_same_every_capture() {
                 ..spec.clone()
             }
             .calibration_error()
+            .unwrap()
         })
         .collect();
     let centre: Vec<f64> = cameras
