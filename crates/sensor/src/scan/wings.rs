@@ -45,16 +45,23 @@ struct Counts {
 }
 
 impl Counts {
-    /// The table of `mask`, `width` wide.
+    /// The table of `mask`, `width` wide: each row's running sums (in parallel), then each row
+    /// added to the one below.
     fn new(mask: &[bool], width: usize) -> Counts {
-        let (w1, h) = (width + 1, mask.len() / width);
-        let mut sums = vec![0u32; w1 * (h + 1)];
-        for r in 0..h {
-            let (above, here) = sums[r * w1..(r + 2) * w1].split_at_mut(w1);
-            let mut run = 0;
-            for c in 0..width {
-                run += u32::from(mask[r * width + c]);
-                here[c + 1] = above[c + 1] + run;
+        let w1 = width + 1;
+        let mut sums = vec![0u32; w1 * (mask.len() / width + 1)];
+        sums[w1..]
+            .par_chunks_mut(w1)
+            .zip(mask.par_chunks(width))
+            .for_each(|(row, cells)| {
+                for (c, &set) in cells.iter().enumerate() {
+                    row[c + 1] = row[c] + u32::from(set);
+                }
+            });
+        for r in 1..sums.len() / w1 {
+            let (above, here) = sums[(r - 1) * w1..(r + 1) * w1].split_at_mut(w1);
+            for (h, a) in here.iter_mut().zip(above.iter()) {
+                *h += a;
             }
         }
         Counts { width, sums }
@@ -93,35 +100,28 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     let index = |r: usize, c: usize| (window.rows.start + r) * stride + c0 + c;
     let pixels = &scan.pixels;
     let reach = |at: usize, len: usize| at.saturating_sub(radius)..(at + radius + 1).min(len);
-    // a pass over the window's pixels, row by row
-    let grid = |f: &(dyn Fn(usize, usize) -> bool + Sync)| -> Vec<bool> {
-        let mut out = vec![false; h * w];
-        out.par_chunks_mut(w).enumerate().for_each(|(r, line)| {
-            for (c, v) in line.iter_mut().enumerate() {
-                *v = f(r, c);
+    // the depth of each pixel whose surface the pattern lights (NaN for the dark: a shadow, or
+    // no surface), whether it has a point, and its signal
+    let mut depth = vec![f32::NAN; h * w];
+    let mut valid = vec![false; h * w];
+    let mut signal = vec![0.0; h * w];
+    depth
+        .par_chunks_mut(w)
+        .zip(valid.par_chunks_mut(w))
+        .zip(signal.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(r, ((depth, valid), signal))| {
+            let row = &pixels[index(r, 0)..index(r, 0) + w];
+            for (c, p) in row.iter().enumerate() {
+                if p.intensity > 0.0 {
+                    (depth[c], valid[c], signal[c]) = (p.clean.z, p.is_valid(), p.intensity);
+                }
             }
         });
-        out
-    };
-    // the depth of each pixel whose surface the pattern lights (NaN for the dark: a shadow, or
-    // no surface)
-    // and whether it has a point, and its signal
-    let mut depth = vec![(f32::NAN, false, 0.0); h * w];
-    depth.par_chunks_mut(w).enumerate().for_each(|(r, line)| {
-        let row = &pixels[index(r, 0)..index(r, 0) + w];
-        for (d, p) in line.iter_mut().zip(row) {
-            if p.intensity > 0.0 {
-                *d = (p.clean.z, p.is_valid(), p.intensity);
-            }
-        }
-    });
-    let valid: Vec<bool> = depth.iter().map(|d| d.1).collect();
-    let signal: Vec<f32> = depth.iter().map(|d| d.2).collect();
-    let depth: Vec<f32> = depth.into_iter().map(|d| d.0).collect();
-    let lit = Counts::new(&grid(&|r, c| !depth[r * w + c].is_nan()), w);
+    let lit = Counts::new(&grid(h, w, |r, c| !depth[r * w + c].is_nan()), w);
     // where the depths bend (second differences) or the signal steps, along a row or a column
     let bends = Counts::new(
-        &grid(&|r, c| {
+        &grid(h, w, |r, c| {
             let (i, z) = (r * w + c, depth[r * w + c]);
             let bend = |a: f32, b: f32| (a + b - 2.0 * z).abs() > JUMP * z;
             let step = |j: usize| {
@@ -137,7 +137,7 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     // lost keeps its loss): light within reach, and a dark pixel within reach (the image's edge
     // is not an edge of the scene: the lens images what lies beyond it) or a bend (on a plane,
     // the blurred stripes decode to the pixel's own column)
-    let changed = grid(&|r, c| {
+    let changed = grid(h, w, |r, c| {
         if !(valid[r * w + c] || depth[r * w + c].is_nan()) {
             return false;
         }
@@ -217,6 +217,17 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     for (i, px) in decoded.into_iter().flatten() {
         scan.pixels[i] = px;
     }
+}
+
+/// `f` of every cell (row, column) of an `h`×`w` grid, row by row.
+fn grid(h: usize, w: usize, f: impl Fn(usize, usize) -> bool + Sync) -> Vec<bool> {
+    let mut out = vec![false; h * w];
+    out.par_chunks_mut(w).enumerate().for_each(|(r, line)| {
+        for (c, v) in line.iter_mut().enumerate() {
+            *v = f(r, c);
+        }
+    });
+    out
 }
 
 /// The light pixel `p` (lit) sends through the blur.
