@@ -189,8 +189,9 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
                             sum.variance += weight * l.variance;
                         }
                     }
-                    // the neighbour whose light dominates, for a pixel that sees no surface
-                    let strongest = if pixels[index(r, c)].clean.x.is_nan() {
+                    // the neighbour whose light dominates, for a pixel without a point of its
+                    // own (its labels where it sees no surface, its colour)
+                    let strongest = if !pixels[index(r, c)].is_valid() {
                         let weighted = |&(rr, cc): &(usize, usize)| {
                             taps[rr + radius - r]
                                 * taps[cc + radius - c]

@@ -392,6 +392,8 @@ fn wings_reach_into_the_projectors_shadow() {
         if !a.is_valid() && a.class == 1 && b.is_valid() {
             assert_eq!(a.intensity, 0.0);
             assert!(b.point.normalize().dot(a.clean.normalize()) > 1.0 - 1e-6);
+            // the colour of the light it decodes, not the black of a pixel never measured
+            assert_ne!(b.rgb, [0; 3]);
             into_shadow += 1;
         }
     }
