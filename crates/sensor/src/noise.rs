@@ -132,7 +132,7 @@ pub struct Noise {
     pub dropout: Dropout,
     /// Highlights on shiny surfaces, and saturation.
     pub specular: Specular,
-    /// Mixed pixels ("flying pixels", "wings") at depth discontinuities.
+    /// Mixed pixels ("flying pixels") at depth discontinuities: one pixel either side.
     pub edges: Edges,
     /// Edge wings from the camera's blur of the projected pattern (structured light).
     pub wings: Wings,
