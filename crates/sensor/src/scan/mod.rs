@@ -40,8 +40,9 @@ pub struct Pixel {
     pub class: u16,
     /// Instance id of that surface (0 where nothing was hit).
     pub instance: u32,
-    /// Signal strength: reflectivity × cos(incidence of the light) × (reference / range)²; 0
-    /// where the pixel's surface is not lit (a projector's shadow, or no surface).
+    /// Signal strength: reflectivity × cos(incidence of the light) × (reference / range)², plus
+    /// a shiny surface's highlight; 0 where the pixel's surface is not lit (a projector's
+    /// shadow, or no surface).
     pub intensity: f32,
     /// Colour as the camera's colour image records it, sRGB (black where there is no point).
     pub rgb: [u8; 3],
