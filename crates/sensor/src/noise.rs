@@ -474,7 +474,6 @@ impl Noise {
             ("specular.saturation", self.specular.saturation),
             ("dropout.softness", self.dropout.softness),
             ("edges.jump", self.edges.jump),
-            ("wings.psf_px", self.wings.psf_px),
             ("bias.offset_sigma", self.bias.offset_sigma),
             ("bias.scale_sigma", self.bias.scale_sigma),
         ];
@@ -494,33 +493,27 @@ impl Noise {
         if let Some((k, v)) = shares.iter().find(|(_, v)| !(0.0..=1.0).contains(v)) {
             return Err(bad(k, *v, "a probability from 0 to 1"));
         }
-        if !(self.correlated.length_px >= 1.0 && self.correlated.length_px.is_finite()) {
-            return Err(bad(
+        let bounded = [
+            (
                 "correlated.length_px",
                 self.correlated.length_px,
-                "a finite number >= 1",
-            ));
-        }
-        if !(self.wings.stripes >= 1.0 && self.wings.stripes.is_finite()) {
-            return Err(bad(
-                "wings.stripes",
-                self.wings.stripes,
-                "a finite number >= 1",
-            ));
-        }
-        if self.wings.psf_px > 10.0 {
-            return Err(bad(
-                "wings.psf_px",
-                self.wings.psf_px,
-                "a blur of 0 to 10 pixels",
-            ));
-        }
-        if !(self.incidence.max_factor >= 1.0 && self.incidence.max_factor.is_finite()) {
-            return Err(bad(
+                1.0..=f32::MAX,
+            ),
+            ("wings.stripes", self.wings.stripes, 1.0..=f32::MAX),
+            ("wings.psf_px", self.wings.psf_px, 0.0..=10.0),
+            (
                 "incidence.max_factor",
                 self.incidence.max_factor,
-                "a finite number >= 1",
-            ));
+                1.0..=f32::MAX,
+            ),
+        ];
+        if let Some((k, v, range)) = bounded.iter().find(|(_, v, range)| !range.contains(v)) {
+            let allowed = if *range.end() == f32::MAX {
+                format!("a finite number >= {}", range.start())
+            } else {
+                format!("a number from {} to {}", range.start(), range.end())
+            };
+            return Err(bad(k, *v, &allowed));
         }
         Ok(())
     }

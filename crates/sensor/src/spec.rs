@@ -642,6 +642,13 @@ impl SensorSpec {
             .map_or(0.0, |p| self.intrinsics.fx as f32 * p.baseline.abs())
     }
 
+    /// Whether the noise filter removes a point of SNR `snr`: only a sensor with the SNR model
+    /// measures one.
+    #[inline]
+    pub fn filters_out(&self, snr: f32) -> bool {
+        self.noise.snr.is_on() && self.processing.filters.noise.removal.removes(snr)
+    }
+
     /// The projector, for models that have one.
     pub fn projector(&self) -> Option<&Projector> {
         match &self.model {
@@ -714,21 +721,24 @@ impl SensorSpec {
             (
                 "processing.filters.noise.removal.threshold",
                 filters.noise.removal.threshold,
+                0.0..=f32::MAX,
                 "an SNR >= 0",
             ),
             (
                 "processing.filters.outlier.removal.threshold",
                 filters.outlier.removal.threshold,
+                0.0..=f32::MAX,
                 "a distance >= 0, mm",
             ),
             (
                 "processing.filters.smoothing.gaussian.sigma",
                 filters.smoothing.gaussian.sigma,
+                0.0..=10.0,
                 "a blur of 0 to 10 pixels",
             ),
         ];
-        for (key, value, allowed) in thresholds {
-            if !(value.is_finite() && value >= 0.0) || (key.ends_with("sigma") && value > 10.0) {
+        for (key, value, range, allowed) in thresholds {
+            if !range.contains(&value) {
                 return Err(Error::Invalid {
                     key: key.into(),
                     value: value.to_string(),

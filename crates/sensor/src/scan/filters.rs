@@ -4,7 +4,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{Scan, Window, gaussian};
+use super::{Pixel, Scan, Window, gaussian, reach};
 use crate::spec::Filters;
 
 /// Applies the enabled filters of `filters` to the pixels of `window`: outliers first, then
@@ -31,30 +31,36 @@ fn points(scan: &Scan, window: &Window) -> Vec<Vec3> {
         .collect()
 }
 
-/// Removes the points none of whose 8 neighbours lies within `threshold` metres.
-fn remove_outliers(scan: &mut Scan, window: &Window, threshold: f32) {
-    let (w, h) = (window.cols.len(), window.rows.len());
-    let points = points(scan, window);
+/// `f` of each pixel of `window` with a point, in parallel by rows: its row and column in the
+/// window, and the pixel.
+fn each_point(scan: &mut Scan, window: &Window, f: impl Fn(usize, usize, &mut Pixel) + Sync) {
     let stride = scan.width as usize;
-    let limit = threshold * threshold;
     scan.pixels[window.rows.start * stride..window.rows.end * stride]
         .par_chunks_mut(stride)
         .enumerate()
         .for_each(|(r, line)| {
-            for c in 0..w {
-                let p = points[r * w + c];
-                if p.x.is_nan() {
-                    continue;
-                }
-                let near = (r.saturating_sub(1)..(r + 2).min(h))
-                    .flat_map(|rr| (c.saturating_sub(1)..(c + 2).min(w)).map(move |cc| (rr, cc)))
-                    .filter(|&(rr, cc)| (rr, cc) != (r, c))
-                    .any(|(rr, cc)| points[rr * w + cc].distance_squared(p) <= limit);
-                if !near {
-                    line[window.cols.start + c].point = Vec3::NAN;
+            for (c, px) in line[window.cols.clone()].iter_mut().enumerate() {
+                if px.is_valid() {
+                    f(r, c, px);
                 }
             }
         });
+}
+
+/// Removes the points none of whose 8 neighbours lies within `threshold` metres.
+fn remove_outliers(scan: &mut Scan, window: &Window, threshold: f32) {
+    let (w, h) = (window.cols.len(), window.rows.len());
+    let points = points(scan, window);
+    let limit = threshold * threshold;
+    each_point(scan, window, |r, c, px| {
+        let near = reach(r, 1, h)
+            .flat_map(|rr| reach(c, 1, w).map(move |cc| (rr, cc)))
+            .filter(|&(rr, cc)| (rr, cc) != (r, c))
+            .any(|(rr, cc)| points[rr * w + cc].distance_squared(px.point) <= limit);
+        if !near {
+            px.point = Vec3::NAN;
+        }
+    });
 }
 
 /// Replaces each point's depth with the Gaussian-weighted mean (σ `sigma` pixels, within 2.5σ)
@@ -64,28 +70,18 @@ fn smooth(scan: &mut Scan, window: &Window, sigma: f32) {
     let inverse: Vec<f32> = points(scan, window).iter().map(|p| 1.0 / p.z).collect();
     let radius = (2.5 * sigma).ceil() as usize;
     let taps = gaussian(sigma, radius);
-    let stride = scan.width as usize;
-    scan.pixels[window.rows.start * stride..window.rows.end * stride]
-        .par_chunks_mut(stride)
-        .enumerate()
-        .for_each(|(r, line)| {
-            for c in 0..w {
-                let own = inverse[r * w + c];
-                if own.is_nan() {
-                    continue;
+    each_point(scan, window, |r, c, px| {
+        let (mut sum, mut weights) = (0.0, 0.0);
+        for rr in reach(r, radius, h) {
+            for cc in reach(c, radius, w) {
+                let v = inverse[rr * w + cc];
+                if !v.is_nan() {
+                    let weight = taps[rr + radius - r] * taps[cc + radius - c];
+                    sum += weight * v;
+                    weights += weight;
                 }
-                let (mut sum, mut weights) = (0.0, 0.0);
-                for rr in r.saturating_sub(radius)..(r + radius + 1).min(h) {
-                    for cc in c.saturating_sub(radius)..(c + radius + 1).min(w) {
-                        let v = inverse[rr * w + cc];
-                        if !v.is_nan() {
-                            let weight = taps[rr + radius - r] * taps[cc + radius - c];
-                            sum += weight * v;
-                            weights += weight;
-                        }
-                    }
-                }
-                line[window.cols.start + c].point *= own * weights / sum;
             }
-        });
+        }
+        px.point *= inverse[r * w + c] * weights / sum;
+    });
 }

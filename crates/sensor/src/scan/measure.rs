@@ -78,8 +78,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         ..
     } = *lit;
     (px.intensity, px.snr) = (signal, snr);
-    // the noise filter acts on the SNR where the sensor measures one
-    if noise.snr.is_on() && sensor.processing.filters.noise.removal.removes(snr) {
+    if sensor.filters_out(snr) {
         return;
     }
     // where this pixel actually samples: its centre, or a laterally jittered position on the

@@ -15,6 +15,8 @@ mod measure;
 pub mod region;
 mod wings;
 
+use std::ops::Range;
+
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
@@ -241,6 +243,11 @@ fn gaussian(sigma: f32, radius: usize) -> Vec<f32> {
     (0..=2 * radius)
         .map(|k| (-0.5 * ((k as f32 - radius as f32) / sigma).powi(2)).exp())
         .collect()
+}
+
+/// The rows (or columns) of `0..len` within `radius` of `at`.
+fn reach(at: usize, radius: usize, len: usize) -> Range<usize> {
+    at.saturating_sub(radius)..(at + radius + 1).min(len)
 }
 
 /// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB) where it can: a

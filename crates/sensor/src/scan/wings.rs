@@ -10,7 +10,7 @@ use rayon::prelude::*;
 
 use super::cast::Capture;
 use super::measure::noisy_range;
-use super::{Pixel, Scan, Window, gaussian};
+use super::{Pixel, Scan, Window, gaussian, reach};
 use crate::noise::{PixelRng, Snr};
 use crate::spec::Frustum;
 
@@ -26,6 +26,17 @@ struct Light {
     column: f32,
     /// Variance of the light's noise (electrons²; 0 without the SNR model).
     variance: f32,
+}
+
+/// The projector's stripes as the blurred camera sees them.
+#[derive(Clone, Copy)]
+struct Stripes {
+    /// The projector's frustum, which gives a point's column.
+    frustum: Frustum,
+    /// The finest period, in the frustum's column units.
+    period: f32,
+    /// The contrast the blur leaves of stripes on a plane.
+    smooth: f32,
 }
 
 /// How far depths may bend (second differences, relative to the depth) within the blur before
@@ -95,11 +106,15 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     // the contrast a Gaussian blur leaves of stripes of that period (about as many camera
     // pixels as the camera's focal length makes of it)
     let period_px = period * sensor.intrinsics.fx as f32;
-    let smooth = (-2.0 * (std::f32::consts::PI * psf / period_px).powi(2)).exp();
+    let stripes = Stripes {
+        frustum,
+        period,
+        smooth: (-2.0 * (std::f32::consts::PI * psf / period_px).powi(2)).exp(),
+    };
     // the window's pixel (row, column) in the scan
     let index = |r: usize, c: usize| (window.rows.start + r) * stride + c0 + c;
     let pixels = &scan.pixels;
-    let reach = |at: usize, len: usize| at.saturating_sub(radius)..(at + radius + 1).min(len);
+    let reach = |at: usize, len: usize| reach(at, radius, len);
     // the depth of each pixel whose surface the pattern lights (NaN for the dark: a shadow, or
     // no surface), whether it has a point, and its signal
     let mut depth = vec![f32::NAN; h * w];
@@ -167,7 +182,7 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
                 .map(|(r, c)| {
                     let p = &pixels[index(r, c)];
                     if p.intensity > 0.0 && sinks.within(&reach(r, h), &reach(c, w)) > 0 {
-                        light(p, &frustum, period, &noise.snr)
+                        light(p, &stripes, &noise.snr)
                     } else {
                         Light::default()
                     }
@@ -206,10 +221,7 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
                     };
                     let (i, at) = (index(r, c), [c0 + c, window.rows.start + r]);
                     let other = &pixels[index(strongest.0, strongest.1)];
-                    out.push((
-                        i,
-                        decode(setup, &sum, period, smooth, at, &pixels[i], other),
-                    ));
+                    out.push((i, decode(setup, &stripes, &sum, at, &pixels[i], other)));
                 }
             }
             out
@@ -232,8 +244,8 @@ fn grid(h: usize, w: usize, f: impl Fn(usize, usize) -> bool + Sync) -> Vec<bool
 }
 
 /// The light pixel `p` (lit) sends through the blur.
-fn light(p: &Pixel, frustum: &Frustum, period: f32, snr: &Snr) -> Light {
-    let column = frustum.column(p.clean);
+fn light(p: &Pixel, stripes: &Stripes, snr: &Snr) -> Light {
+    let column = stripes.frustum.column(p.clean);
     let (amplitude, variance) = if snr.is_on() {
         // the light's noise, as its SNR has it (a lost pixel may have none: shot noise then)
         let a = p.intensity * snr.electrons;
@@ -247,7 +259,7 @@ fn light(p: &Pixel, frustum: &Frustum, period: f32, snr: &Snr) -> Light {
     } else {
         (p.intensity, 0.0)
     };
-    let (sin, cos) = (TAU * column / period).sin_cos();
+    let (sin, cos) = (TAU * column / stripes.period).sin_cos();
     Light {
         amplitude,
         phasor: [amplitude * cos, amplitude * sin],
@@ -262,9 +274,8 @@ fn light(p: &Pixel, frustum: &Frustum, period: f32, snr: &Snr) -> Light {
 /// range.
 fn decode(
     setup: &Capture,
+    stripes: &Stripes,
     sum: &Light,
-    period: f32,
-    smooth: f32,
     [c, row]: [usize; 2],
     px: &Pixel,
     strongest: &Pixel,
@@ -272,9 +283,11 @@ fn decode(
     let sensor = setup.sensor;
     let k = &sensor.intrinsics;
     let snr_model = sensor.noise.snr;
-    let Some((frustum, _)) = setup.projector else {
-        return *px;
-    };
+    let Stripes {
+        frustum,
+        period,
+        smooth,
+    } = *stripes;
     let own = !px.clean.x.is_nan();
     // without a point the pixel is as it was, less its point
     let out = Pixel {
@@ -303,8 +316,7 @@ fn decode(
         sum.amplitude
     };
     // a pixel the blur of a highlight saturates, or the noise filter removes, has no point
-    let removed = snr_model.is_on() && sensor.processing.filters.noise.removal.removes(snr);
-    if removed || sensor.noise.specular.saturates(intensity) {
+    if sensor.filters_out(snr) || sensor.noise.specular.saturates(intensity) {
         return out;
     }
     let dir = if own {
