@@ -8,7 +8,7 @@ use std::hint::black_box;
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
-use sensor::{Bvh, Material, SensorSpec, Target, World, look_at, scan, scan_reusing};
+use sensor::{Bvh, SensorSpec, Target, World, look_at, materials, scan, scan_reusing};
 
 /// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about `triangles`.
 fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
@@ -87,8 +87,14 @@ fn raycast(c: &mut Criterion) {
 /// A full Zivid 2+ M130 frame (2448 x 2048 camera rays, a projector ray per hit, every noise
 /// model of the preset, the organized scan in memory) of the 200k-triangle world from 1.3 m.
 fn zivid_frame(c: &mut Criterion) {
+    // a polished steel ball on a grey table: the ball's pixels mirror the table (the sphere
+    // and the plane are each half the triangles)
     let tris = sphere_on_plane(200_000);
-    let world = World::new(&[Target::from_triangles(&tris, 1, 1, Material::default())]);
+    let (ball, table) = tris.split_at(tris.len() / 2);
+    let world = World::new(&[
+        Target::from_triangles(ball, 1, 1, materials::STAINLESS_STEEL),
+        Target::from_triangles(table, 2, 2, materials::MATTE_GREY),
+    ]);
     let sensor = SensorSpec::preset("zivid-2plus-m130").unwrap();
     let pose: Affine3A = look_at(
         Vec3::new(0.1, -0.2, 1.28),
@@ -118,12 +124,15 @@ fn zivid_frame(c: &mut Criterion) {
     });
     // the same frame with one of the preset's error models off, and with none
     type Off = fn(&mut SensorSpec);
-    let variants: [(&str, Off); 6] = [
+    let variants: [(&str, Off); 7] = [
         ("without_snr", |s| s.noise.snr = Default::default()),
         ("without_correlation", |s| {
             s.noise.correlated = Default::default()
         }),
         ("without_wings", |s| s.noise.wings = Default::default()),
+        ("without_interreflection", |s| {
+            s.noise.interreflection = Default::default()
+        }),
         ("without_specular", |s| {
             s.noise.specular = Default::default()
         }),

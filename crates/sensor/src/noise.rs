@@ -136,6 +136,8 @@ pub struct Noise {
     pub edges: Edges,
     /// Edge wings from the camera's blur of the projected pattern (structured light).
     pub wings: Wings,
+    /// Shiny surfaces mirroring the stripes on other surfaces (structured light).
+    pub interreflection: Interreflection,
     /// A per-scan systematic error.
     pub bias: Bias,
 }
@@ -429,6 +431,23 @@ impl Wings {
     pub fn radius(&self) -> usize {
         (2.5 * self.psf_px).ceil() as usize
     }
+}
+
+/// Interreflection: a shiny surface mirrors the surfaces around it, and with them the stripes
+/// the projector lays on them. A pixel that sees a surface of `specular` share > 0 also receives,
+/// along its ray's mirror direction, the light of the surface found there when the projector
+/// lights it: that surface's diffuse signal × `specular`, its stripes blurred by the lobe (σ
+/// 2·lobe radians about the mirror direction, over the distance between the two surfaces). The
+/// pixel decodes the two surfaces' stripes together (as the [`Wings`] do): where the mirrored
+/// light is strong against the surface's own, as on shiny metal in an inside corner or beside
+/// another part, the point moves along its ray towards where the mirrored column's light plane
+/// meets it, or floats there as a ghost. The bounce seen from the camera's side only: light
+/// that a mirror throws onto a matte surface, and diffuse interreflection, are not modelled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Interreflection {
+    /// Whether shiny surfaces mirror their surroundings' stripes.
+    pub enabled: bool,
 }
 
 /// A per-scan systematic error: range × (1 + N(0, `scale_sigma`)) + N(0, `offset_sigma`).

@@ -5,7 +5,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::camera::{Distortion, Intrinsics};
-use crate::noise::{Axial, Correlated, Noise, PixelRng, Snr, Specular, Wings, stream};
+use crate::noise::{
+    Axial, Correlated, Interreflection, Noise, PixelRng, Snr, Specular, Wings, stream,
+};
 
 /// A projector beside the camera: at `baseline` metres along camera +x, toed in so that its
 /// optical axis crosses the camera's at `convergence` metres.
@@ -204,8 +206,39 @@ pub struct Filters {
     pub noise: NoiseFilter,
     /// `Processing.Filters.Outlier`.
     pub outlier: OutlierFilter,
+    /// `Processing.Filters.Reflection`.
+    pub reflection: ReflectionFilter,
     /// `Processing.Filters.Smoothing`.
     pub smoothing: Smoothing,
+}
+
+/// `Processing.Filters.Reflection`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ReflectionFilter {
+    /// `Processing.Filters.Reflection.Removal`.
+    pub removal: ReflectionRemoval,
+}
+
+/// `Processing.Filters.Reflection.Removal`: removes the points whose light came from more than
+/// one surface, found where the finest stripes' phase and the coarser patterns' column disagree
+/// by more than a quarter of a period (a surface's own light makes them agree; the mirrored
+/// light of another surface, or the light of both sides of an edge, pulls them apart). Zivid's
+/// `Mode` (`global` or `local`) is not modelled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ReflectionRemoval {
+    /// Whether the filter runs.
+    pub enabled: bool,
+}
+
+impl ReflectionRemoval {
+    /// Whether the filter removes a point whose phase and column disagree by `mismatch`
+    /// periods (0 to 0.5).
+    #[inline]
+    pub fn removes(&self, mismatch: f32) -> bool {
+        self.enabled && mismatch > 0.25
+    }
 }
 
 /// `Processing.Filters.Outlier`.
@@ -370,6 +403,7 @@ fn zivid_noise() -> Noise {
             psf_px: 1.5,
             stripes: 64.0,
         },
+        interreflection: Interreflection { enabled: true },
         ..Noise::default()
     }
 }
@@ -399,6 +433,9 @@ const ZIVID_PROCESSING: Processing = Processing {
                 enabled: false,
                 threshold: 5.0,
             },
+        },
+        reflection: ReflectionFilter {
+            removal: ReflectionRemoval { enabled: true },
         },
         smoothing: Smoothing {
             gaussian: Gaussian {
@@ -760,6 +797,15 @@ impl SensorSpec {
                 key: "noise.wings.psf_px".into(),
                 value: self.noise.wings.psf_px.to_string(),
                 allowed: "0 for a sensor without a projector (wings come from its stripes)".into(),
+            });
+        }
+        if self.noise.interreflection.enabled && self.projector().is_none() {
+            return Err(Error::Invalid {
+                key: "noise.interreflection.enabled".into(),
+                value: "true".into(),
+                allowed: "false for a sensor without a projector (the mirrored light is its \
+                          stripes)"
+                    .into(),
             });
         }
         if let Some(p) = self.projector() {

@@ -7,6 +7,7 @@ use std::ops::Range;
 use glam::{Affine3A, DVec3, Mat3A, Vec3};
 
 use super::Pixel;
+use super::decode::Stripes;
 use super::light::{LitPixel, acos, illuminate};
 use super::measure::measure;
 use super::region::{Region, Window, row_columns};
@@ -42,6 +43,8 @@ pub(super) struct Capture<'a> {
     pub(super) focal_baseline: f32,
     /// The key of the correlated noise's lattice.
     pub(super) lattice: u64,
+    /// The projector's stripes, for sensors that have one.
+    pub(super) stripes: Option<Stripes>,
     /// The pixels cast: whole blocks over the window's columns, and the window's rows.
     pub(super) cols: Range<usize>,
     pub(super) rows: Range<usize>,
@@ -90,10 +93,11 @@ impl<'a> Capture<'a> {
         } else {
             Path::Blocks
         };
+        let projector = sensor.projector().map(|p| (p.frustum(), p.centre()));
         Capture {
             world,
             sensor,
-            projector: sensor.projector().map(|p| (p.frustum(), p.centre())),
+            projector,
             to_camera: pose.matrix3.transpose(),
             pinhole,
             pose: *pose,
@@ -105,6 +109,7 @@ impl<'a> Capture<'a> {
             calibration: sensor.calibration_error(),
             focal_baseline: sensor.focal_baseline(),
             lattice: Correlated::key(seed),
+            stripes: projector.map(|(frustum, _)| Stripes::new(sensor, frustum)),
             cols,
             rows: window.rows.clone(),
             path,

@@ -21,6 +21,9 @@ pub(super) struct LitPixel {
     pub(super) snr: f32,
     /// The point's linear colour before the camera's noise.
     pub(super) colour: Vec3,
+    /// The surface's specular share and the width of its lobe, radians.
+    pub(super) specular: f32,
+    pub(super) lobe: f32,
     /// The surface point the projector must reach (camera frame) and its distance from the
     /// projector (none for sensors that light from the camera).
     pub(super) shadow: Option<(Vec3, f32)>,
@@ -113,6 +116,8 @@ pub(super) fn illuminate(
         snr,
         colour: Vec3::from(material.colour)
             * (light * sensor.colour.exposure + sensor.colour.ambient),
+        specular: material.specular,
+        lobe: material.lobe,
         shadow,
         rng,
     })

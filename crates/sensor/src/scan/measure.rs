@@ -8,7 +8,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::cast::Capture;
+use super::decode::{Light, decode};
 use super::light::LitPixel;
+use super::mirror::mirrored;
 use super::{Pixel, Scan};
 use crate::noise::{PixelRng, stream};
 use crate::spec::{Model, SensorSpec};
@@ -78,6 +80,32 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         ..
     } = *lit;
     (px.intensity, px.snr) = (signal, snr);
+    // a shiny surface's pixel also receives the light of the surface it mirrors, and decodes
+    // the two surfaces' stripes together
+    if let Some(stripes) = &setup.stripes
+        && noise.interreflection.enabled
+        && lit.specular > 0.0
+        && let Some(mirrored) = mirrored(setup, stripes, lit, px.normal)
+    {
+        let column = stripes.frustum.column(px.clean);
+        let contrast = [stripes.smooth, 1.0, 1.0];
+        let mut sum = Light::new(signal, snr, column, contrast, stripes, &noise.snr);
+        sum.add(&mirrored, 1.0);
+        let own = *px;
+        let coloured = Pixel {
+            rgb: srgb(colour, sensor.colour.noise, rng),
+            ..own
+        };
+        *px = decode(
+            setup,
+            stripes,
+            &sum,
+            [col as usize, row as usize],
+            &own,
+            &coloured,
+        );
+        return;
+    }
     if sensor.filters_out(snr) {
         return;
     }

@@ -5,13 +5,16 @@
 //! along one of two paths (rows cut in their epipolar planes, or blocks of rays cast as packets
 //! through the BVH); `light` labels a pixel and decides its signal and losses; `measure` turns a
 //! lit pixel into a point with noise and makes the neighbour effects (mixed pixels, the Kinect
-//! window); `wings` decodes pixels near edges from their neighbours' blurred stripes, and
-//! `filters` applies Zivid's point-cloud filters.
+//! window); `mirror` finds the light a shiny surface mirrors into a pixel, `wings` the light
+//! of a pixel's neighbours near edges, and `decode` decodes a pixel's stripes from such mixed
+//! light; `filters` applies Zivid's point-cloud filters.
 
 mod cast;
+mod decode;
 mod filters;
 mod light;
 mod measure;
+mod mirror;
 pub mod region;
 mod wings;
 

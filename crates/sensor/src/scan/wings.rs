@@ -2,42 +2,13 @@
 //! a depth jump or a shadow the pixel decodes a column between theirs (see
 //! [`Wings`](crate::noise::Wings)).
 
-use std::f32::consts::TAU;
 use std::ops::Range;
 
-use glam::Vec3;
 use rayon::prelude::*;
 
 use super::cast::Capture;
-use super::measure::noisy_range;
+use super::decode::{Light, decode};
 use super::{Pixel, Scan, Window, gaussian, reach};
-use crate::noise::{PixelRng, Snr};
-use crate::spec::Frustum;
-
-/// The light a pixel sends into its neighbours' through the blur: the stripes' phasor and the
-/// column it encodes, each weighted by its modulation.
-#[derive(Clone, Copy, Default)]
-struct Light {
-    /// Modulation (electrons with the SNR model, else the signal).
-    amplitude: f32,
-    /// Modulation × cos and sin of the stripes' phase.
-    phasor: [f32; 2],
-    /// Modulation × the projector column.
-    column: f32,
-    /// Variance of the light's noise (electrons²; 0 without the SNR model).
-    variance: f32,
-}
-
-/// The projector's stripes as the blurred camera sees them.
-#[derive(Clone, Copy)]
-struct Stripes {
-    /// The projector's frustum, which gives a point's column.
-    frustum: Frustum,
-    /// The finest period, in the frustum's column units.
-    period: f32,
-    /// The contrast the blur leaves of stripes on a plane.
-    smooth: f32,
-}
 
 /// How far depths may bend (second differences, relative to the depth) within the blur before
 /// a pixel is decoded anew: below it, the stripes' phases vary as on a plane, whose blurred
@@ -91,7 +62,7 @@ impl Counts {
 /// pixel, a bend of the depths or a step of the signal.
 pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
     let sensor = setup.sensor;
-    let Some((frustum, _)) = setup.projector else {
+    let Some(stripes) = &setup.stripes else {
         return;
     };
     let noise = &sensor.noise;
@@ -102,15 +73,6 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
         window.cols.len(),
         window.rows.len(),
     );
-    let period = 2.0 * frustum.half_width() / noise.wings.stripes;
-    // the contrast a Gaussian blur leaves of stripes of that period (about as many camera
-    // pixels as the camera's focal length makes of it)
-    let period_px = period * sensor.intrinsics.fx as f32;
-    let stripes = Stripes {
-        frustum,
-        period,
-        smooth: (-2.0 * (std::f32::consts::PI * psf / period_px).powi(2)).exp(),
-    };
     // the window's pixel (row, column) in the scan
     let index = |r: usize, c: usize| (window.rows.start + r) * stride + c0 + c;
     let pixels = &scan.pixels;
@@ -182,7 +144,8 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
                 .map(|(r, c)| {
                     let p = &pixels[index(r, c)];
                     if p.intensity > 0.0 && sinks.within(&reach(r, h), &reach(c, w)) > 0 {
-                        light(p, &stripes, &noise.snr)
+                        let column = stripes.frustum.column(p.clean);
+                        Light::new(p.intensity, p.snr, column, [1.0; 3], stripes, &noise.snr)
                     } else {
                         Light::default()
                     }
@@ -196,12 +159,7 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
                         let wr = taps[rr + radius - r];
                         let line = &lights[(rr - first) * w..(rr - first + 1) * w];
                         for (cc, l) in reach(c, w).zip(&line[reach(c, w)]) {
-                            let weight = wr * taps[cc + radius - c];
-                            sum.amplitude += weight * l.amplitude;
-                            sum.phasor[0] += weight * l.phasor[0];
-                            sum.phasor[1] += weight * l.phasor[1];
-                            sum.column += weight * l.column;
-                            sum.variance += weight * l.variance;
+                            sum.add(l, wr * taps[cc + radius - c]);
                         }
                     }
                     // the neighbour whose light dominates, for a pixel without a point of its
@@ -221,7 +179,7 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
                     };
                     let (i, at) = (index(r, c), [c0 + c, window.rows.start + r]);
                     let other = &pixels[index(strongest.0, strongest.1)];
-                    out.push((i, decode(setup, &stripes, &sum, at, &pixels[i], other)));
+                    out.push((i, decode(setup, stripes, &sum, at, &pixels[i], other)));
                 }
             }
             out
@@ -241,115 +199,4 @@ fn grid(h: usize, w: usize, f: impl Fn(usize, usize) -> bool + Sync) -> Vec<bool
         }
     });
     out
-}
-
-/// The light pixel `p` (lit) sends through the blur.
-fn light(p: &Pixel, stripes: &Stripes, snr: &Snr) -> Light {
-    let column = stripes.frustum.column(p.clean);
-    let (amplitude, variance) = if snr.is_on() {
-        // the light's noise, as its SNR has it (a lost pixel may have none: shot noise then)
-        let a = p.intensity * snr.electrons;
-        let read = snr.read_electrons * snr.read_electrons;
-        let noise = if p.snr > 0.0 {
-            (a / p.snr).powi(2) - read
-        } else {
-            a
-        };
-        (a, noise.max(a))
-    } else {
-        (p.intensity, 0.0)
-    };
-    let (sin, cos) = (TAU * column / stripes.period).sin_cos();
-    Light {
-        amplitude,
-        phasor: [amplitude * cos, amplitude * sin],
-        column: amplitude * column,
-        variance,
-    }
-}
-
-/// Pixel `px` (its column and row) decoded from the light `sum` it receives: its point on its
-/// own ray at the decoded column, with the SNR of that light, or none where that light
-/// saturates it, the noise filter removes it or the column's light plane meets the ray out of
-/// range.
-fn decode(
-    setup: &Capture,
-    stripes: &Stripes,
-    sum: &Light,
-    [c, row]: [usize; 2],
-    px: &Pixel,
-    strongest: &Pixel,
-) -> Pixel {
-    let sensor = setup.sensor;
-    let k = &sensor.intrinsics;
-    let snr_model = sensor.noise.snr;
-    let Stripes {
-        frustum,
-        period,
-        smooth,
-    } = *stripes;
-    let own = !px.clean.x.is_nan();
-    // without a point the pixel is as it was, less its point
-    let out = Pixel {
-        point: Vec3::NAN,
-        ..*px
-    };
-    if sum.amplitude <= 0.0 {
-        return out;
-    }
-    // the stripes' phase gives the column within a period; the mean column picks the period
-    let mean = sum.column / sum.amplitude;
-    let fine = sum.phasor[1].atan2(sum.phasor[0]) / TAU * period;
-    let column = fine + period * ((mean - fine) / period).round();
-    // the stripes' contrast left after the blur, against what the blur leaves on a smooth
-    // surface (which the SNR model's precision already holds)
-    let contrast = (sum.phasor[0].hypot(sum.phasor[1]) / sum.amplitude / smooth).min(1.0);
-    let snr = if snr_model.is_on() {
-        let read = snr_model.read_electrons * snr_model.read_electrons;
-        (contrast * sum.amplitude / (sum.variance + read).sqrt()).min(255.0)
-    } else {
-        0.0
-    };
-    let intensity = if snr_model.is_on() {
-        sum.amplitude / snr_model.electrons
-    } else {
-        sum.amplitude
-    };
-    // a pixel the blur of a highlight saturates, or the noise filter removes, has no point
-    if sensor.filters_out(snr) || sensor.noise.specular.saturates(intensity) {
-        return out;
-    }
-    let dir = if own {
-        px.clean.normalize()
-    } else {
-        k.ray(c as f64, row as f64)
-    };
-    let t = frustum.ray_to_column(dir, column);
-    if !(t > 0.0 && sensor.in_range(t * dir.z)) {
-        return out;
-    }
-    let rng = PixelRng::new(setup.seed, (row * k.width as usize + c) as u64);
-    let incidence = if own { px.incidence } else { 0.0 };
-    let at = [c as u32, row as u32];
-    let Some(range) = noisy_range(setup, rng, at, dir, t, snr, incidence) else {
-        return out;
-    };
-    // a point: the labels and normal of the pixel's own surface, or of the neighbour whose
-    // light dominates where it sees none; the colour of its own point, or that neighbour's
-    let seen = if own {
-        *px
-    } else {
-        Pixel {
-            clean: Vec3::NAN,
-            incidence: f32::NAN,
-            ..*strongest
-        }
-    };
-    Pixel {
-        point: dir * range,
-        snr,
-        intensity,
-        rgb: if px.is_valid() { px.rgb } else { strongest.rgb },
-        ..seen
-    }
 }

@@ -247,24 +247,6 @@ fn same_bytes_for_any_thread_count() {
             .unwrap();
         pool.install(|| scan(&world, &spec, &Affine3A::IDENTITY, 42))
     };
-    let bits = |s: &Scan| -> Vec<u32> {
-        s.pixels
-            .iter()
-            .flat_map(|p| {
-                [p.point.to_array(), p.clean.to_array(), p.normal.to_array()]
-                    .concat()
-                    .into_iter()
-                    .map(f32::to_bits)
-                    .chain([
-                        p.class as u32,
-                        p.instance,
-                        p.intensity.to_bits(),
-                        p.snr.to_bits(),
-                        p.incidence.to_bits(),
-                    ])
-            })
-            .collect()
-    };
     let (one, two) = (run(1), run(2));
     assert_eq!(bits(&one), bits(&two));
     assert_ne!(bits(&one), bits(&pool_free(&world, &spec, 43)));

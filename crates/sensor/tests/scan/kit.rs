@@ -78,3 +78,52 @@ pub fn mean_std(v: &[f64]) -> (f64, f64) {
 pub fn pool_free(world: &World, spec: &SensorSpec, seed: u64) -> Scan {
     scan(world, spec, &Affine3A::IDENTITY, seed)
 }
+
+/// A 500×400 structured-light camera (200k pixels) with a projector 0.1 m beside it, converging
+/// at 0.6 m, and the given noise; nothing else.
+pub fn structured(noise: Noise) -> SensorSpec {
+    let k = small_camera(500, 400, 800.0);
+    SensorSpec {
+        intrinsics: k,
+        model: Model::StructuredLight {
+            projector: Projector {
+                baseline: 0.1,
+                convergence: 0.6,
+                hfov_deg: 60.0,
+                vfov_deg: 50.0,
+            },
+        },
+        noise,
+        reference_range: 0.6,
+        ..ideal(k)
+    }
+}
+
+/// Zivid's SNR model as the presets have it, and nothing else.
+pub fn snr_noise() -> Noise {
+    Noise {
+        snr: SensorSpec::preset("zivid-2plus-m60").unwrap().noise.snr,
+        ..Noise::default()
+    }
+}
+
+/// Every field of every pixel as bits (NaN equal to NaN), to compare scans exactly.
+pub fn bits(s: &Scan) -> Vec<u32> {
+    s.pixels
+        .iter()
+        .flat_map(|p| {
+            [p.point.to_array(), p.clean.to_array(), p.normal.to_array()]
+                .concat()
+                .into_iter()
+                .map(f32::to_bits)
+                .chain([
+                    p.class as u32,
+                    p.instance,
+                    p.intensity.to_bits(),
+                    u32::from_le_bytes([p.rgb[0], p.rgb[1], p.rgb[2], 0]),
+                    p.snr.to_bits(),
+                    p.incidence.to_bits(),
+                ])
+        })
+        .collect()
+}

@@ -1,6 +1,7 @@
 //! Scans of analytic scenes, one module a topic.
 
 mod geometry;
+mod interreflection;
 mod kit;
 mod noise;
 mod regions;

@@ -9,34 +9,6 @@ use glam::{Affine3A, Vec3};
 
 use crate::kit::*;
 
-/// A 500×400 structured-light camera (200k pixels) with a projector 0.1 m beside it, converging
-/// at 0.6 m, and the given noise; nothing else.
-fn structured(noise: Noise) -> SensorSpec {
-    let k = small_camera(500, 400, 800.0);
-    SensorSpec {
-        intrinsics: k,
-        model: Model::StructuredLight {
-            projector: Projector {
-                baseline: 0.1,
-                convergence: 0.6,
-                hfov_deg: 60.0,
-                vfov_deg: 50.0,
-            },
-        },
-        noise,
-        reference_range: 0.6,
-        ..ideal(k)
-    }
-}
-
-/// Zivid's SNR model as the presets have it, and nothing else.
-fn snr_noise() -> Noise {
-    Noise {
-        snr: SensorSpec::preset("zivid-2plus-m60").unwrap().noise.snr,
-        ..Noise::default()
-    }
-}
-
 /// A plane facing the camera at depth `z`, of `reflectivity`.
 fn plane(z: f32, reflectivity: f32) -> World {
     let mut p = facing_plane(z);

@@ -1,0 +1,161 @@
+//! Interreflection by its statistics: shiny inside corners move points along their rays and
+//! float ghosts, matte or convex scenes change nothing, a wider lobe blurs the mirrored stripes
+//! away, and Zivid's reflection filter removes what the mirrored light decoded.
+
+use ::sensor::noise::Interreflection;
+use ::sensor::spec::ReflectionRemoval;
+use ::sensor::*;
+use glam::{Affine3A, Vec3};
+
+use crate::kit::*;
+
+/// Polished steel with a lobe of `lobe` radians.
+fn steel(lobe: f32) -> Material {
+    Material {
+        lobe,
+        ..materials::STAINLESS_STEEL
+    }
+}
+
+/// Two walls 12 cm deep and 30 cm high of `material` meeting in a vertical edge 0.65 m in front
+/// of the camera, `angle` degrees apart: an inside corner facing the camera, or a ridge (its
+/// edge towards the camera) when `ridge`.
+fn corner(angle: f32, material: Material, ridge: bool) -> World {
+    let half = (0.5 * angle).to_radians();
+    let (z, depth, height) = (0.65, 0.12, Vec3::Y * 0.15);
+    let (edge, back) = if ridge {
+        (Vec3::new(0.0, 0.0, z - depth * half.cos()), 1.0)
+    } else {
+        (Vec3::new(0.0, 0.0, z), -1.0)
+    };
+    let wall = |side: f32| {
+        let along = 0.5 * depth * Vec3::new(side * half.sin(), 0.0, back * half.cos());
+        let tris = shapes::rectangle(edge + along, along, height);
+        Target::from_triangles(&tris, 1, if side < 0.0 { 1 } else { 2 }, material)
+    };
+    World::new(&[wall(-1.0), wall(1.0)])
+}
+
+/// The SNR model, interreflection and Zivid's noise filter.
+fn mirroring(enabled: bool) -> SensorSpec {
+    let mut spec = structured(Noise {
+        interreflection: Interreflection { enabled },
+        ..snr_noise()
+    });
+    spec.processing.filters.noise = SensorSpec::preset("zivid-2plus-m60")
+        .unwrap()
+        .processing
+        .filters
+        .noise;
+    spec
+}
+
+/// Of the pixels with a point in `off` (the scan without interreflection), those whose point
+/// `on` moved by more than `by` metres or lost, and all of them.
+fn moved(on: &Scan, off: &Scan, by: f32) -> (usize, usize) {
+    let pairs = on
+        .pixels
+        .iter()
+        .zip(&off.pixels)
+        .filter(|(_, b)| b.is_valid());
+    let moved = pairs
+        .clone()
+        .filter(|(a, b)| !a.is_valid() || a.point.distance(b.point) > by)
+        .count();
+    (moved, pairs.count())
+}
+
+/// The corner scanned with and without interreflection.
+fn on_and_off(world: &World, spec: &SensorSpec, seed: u64) -> (Scan, Scan) {
+    let mut off = spec.clone();
+    off.noise.interreflection.enabled = false;
+    let pose = Affine3A::IDENTITY;
+    (
+        scan(world, spec, &pose, seed),
+        scan(world, &off, &pose, seed),
+    )
+}
+
+#[test]
+fn shiny_inside_corners_move_points_along_their_rays() {
+    for angle in [60.0, 90.0] {
+        let world = corner(angle, steel(0.05), false);
+        let (on, off) = on_and_off(&world, &mirroring(true), 3);
+        let (moved, total) = moved(&on, &off, 1e-3);
+        assert!(total > 20_000, "{total}");
+        assert!(moved > total / 10, "{angle}°: {moved} of {total} moved");
+        // each on its own pixel's ray
+        for p in on.pixels.iter().filter(|p| p.is_valid()) {
+            let across = p.point.normalize().cross(p.clean.normalize()).length();
+            assert!(across < 1e-5, "{angle}°: {across}");
+        }
+        // ghosts: points that float more than 2 cm off the walls
+        let ghosts = on
+            .pixels
+            .iter()
+            .filter(|p| p.is_valid() && p.point.distance(p.clean) > 0.02)
+            .count();
+        assert!(ghosts > 100, "{angle}°: {ghosts} ghosts");
+        eprintln!("{angle}°: {moved} of {total} moved > 1 mm, {ghosts} > 2 cm");
+    }
+}
+
+#[test]
+fn matte_or_convex_scenes_see_no_interreflection() {
+    let matte = corner(90.0, materials::MATTE_GREY, false);
+    let ridge = corner(90.0, steel(0.05), true);
+    for world in [matte, ridge] {
+        let (on, off) = on_and_off(&world, &mirroring(true), 5);
+        assert!(on.valid_count() > 20_000);
+        assert_eq!(bits(&on), bits(&off));
+    }
+}
+
+#[test]
+fn the_mirrored_light_pulls_by_its_strength_and_sharpness() {
+    let moved = |specular: f32, lobe: f32| {
+        let material = Material {
+            specular,
+            ..steel(lobe)
+        };
+        let (on, off) = on_and_off(&corner(90.0, material, false), &mirroring(true), 7);
+        moved(&on, &off, 1e-3).0
+    };
+    let (faint, strong, blurred) = (moved(0.05, 0.03), moved(0.6, 0.03), moved(0.6, 0.3));
+    eprintln!("faint {faint} strong {strong} blurred {blurred}");
+    assert!(faint * 3 < strong, "specular 0.05: {faint}, 0.6: {strong}");
+    assert!(blurred < strong, "lobe 0.3: {blurred}, 0.03: {strong}");
+}
+
+#[test]
+fn the_reflection_filter_removes_what_mirrored_light_decoded() {
+    let filtered = |mut spec: SensorSpec| {
+        spec.processing.filters.reflection.removal = ReflectionRemoval { enabled: true };
+        spec
+    };
+    let world = corner(90.0, steel(0.05), false);
+    let (raw, off) = on_and_off(&world, &mirroring(true), 9);
+    let kept = scan(&world, &filtered(mirroring(true)), &Affine3A::IDENTITY, 9);
+    let ghosts = |s: &Scan| {
+        s.pixels
+            .iter()
+            .filter(|p| p.is_valid() && p.point.distance(p.clean) > 0.02)
+            .count()
+    };
+    let (before, after) = (ghosts(&raw), ghosts(&kept));
+    assert!(after * 5 < before, "{after} of {before} ghosts left");
+    assert!(kept.valid_count() > off.valid_count() / 3);
+    // the points it keeps are as they were
+    for (r, k) in raw.pixels.iter().zip(&kept.pixels) {
+        assert!(!k.is_valid() || r == k);
+    }
+    // where each pixel's light is its own surface's, it removes nothing
+    let plane = World::new(&[facing_plane(0.6)]);
+    let matte = corner(90.0, materials::MATTE_GREY, false);
+    for world in [plane, matte] {
+        let spec = mirroring(true);
+        let unfiltered = scan(&world, &spec, &Affine3A::IDENTITY, 9);
+        let kept = scan(&world, &filtered(spec), &Affine3A::IDENTITY, 9);
+        assert_eq!(bits(&kept), bits(&unfiltered));
+    }
+}
