@@ -133,7 +133,7 @@ impl GenerateCmd {
                 sensor.width,
                 sensor.height
             ),
-            "lower --jobs, -n or the sensor's resolution (sensor.binning)",
+            "lower --jobs, -n or the sensor's resolution (sensor.sampling)",
         )?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)

@@ -30,9 +30,10 @@ pub struct ScanCmd {
     /// World direction that appears up in the image.
     #[arg(long, default_value = "0,0,1", allow_hyphen_values = true)]
     up: String,
-    /// Pixel binning: 1, 2 or 4.
-    #[arg(long, default_value_t = 1)]
-    binning: u32,
+    /// Which pixels make a point, by Zivid's names: all, by2x2 or by4x4 (each 2×2 or 4×4 block
+    /// summed into one).
+    #[arg(long, default_value = "all")]
+    sampling: String,
     /// Cloud formats, comma-separated: ply, pcd, pcd-ascii, npy (SynMotor N×7), npz.
     #[arg(long, value_delimiter = ',', default_value = "ply")]
     format: Vec<String>,
@@ -95,13 +96,11 @@ impl ScanCmd {
     /// Runs the command.
     pub fn run(&self) -> CliResult<()> {
         let spec = read_sensor(&self.sensor)?;
-        if ![1, 2, 4].contains(&self.binning) {
-            return Err(CliError::Usage(format!(
-                "--binning {} is not allowed: expected 1, 2 or 4",
-                self.binning
-            )));
-        }
-        let spec = spec.binned(self.binning);
+        let sampling: sensor::Sampling = self
+            .sampling
+            .parse()
+            .map_err(|e| CliError::Usage(format!("--{e}")))?;
+        let spec = spec.binned(sampling.factor());
         spec.validate()
             .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
         // each mesh file and its material: FILE@MATERIAL, or FILE with --material's (a file
@@ -135,7 +134,7 @@ impl ScanCmd {
                 spec.intrinsics.height,
                 crate::memory::size(bytes)
             ),
-            "scan at a lower resolution (--binning 2 or 4) or a smaller mesh",
+            "scan at a lower resolution (--sampling by2x2 or by4x4) or a smaller mesh",
         )?;
         let v = numbers("look-at", &self.look_at, 6)?;
         let up = numbers("up", &self.up, 3)?;

@@ -279,8 +279,8 @@ fn scan_of_a_motor_keeps_its_labels() {
             m.join("cover_bolt_1.stl").to_str().unwrap(),
             "--sensor",
             "zivid-2plus-m130",
-            "--binning",
-            "4",
+            "--sampling",
+            "by4x4",
             "--look-at",
             "0.05,-1.2,0.6,0,0,0.09",
             "--format",
@@ -340,7 +340,7 @@ fn scan_meshes_take_their_material_from_the_library() {
     // the motor's mean signal and SNR in black plastic and in white plastic
     let signal = |mesh: String, extra: &[&str]| {
         let out = dir.path().join(format!("s{}", extra.len() + mesh.len()));
-        let mut args = vec!["scan", "--mesh", &mesh, "--binning", "4"];
+        let mut args = vec!["scan", "--mesh", &mesh, "--sampling", "by4x4"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--look-at", "0.05,-0.9,0.6,0,0,0.09", "--format", "ply"]);
         args.extend_from_slice(&["--out", out.to_str().unwrap()]);
@@ -551,12 +551,12 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
                 cube_s,
                 "--look-at",
                 la,
-                "--binning",
-                "3",
+                "--sampling",
+                "by3x3",
                 "--out",
                 o_str,
             ],
-            "--binning 3",
+            "--sampling = \"by3x3\" is not allowed: expected one of all, by2x2, by4x4",
         ),
     ];
     assert_refused(&cases, &out);
@@ -612,8 +612,8 @@ fn scan_files_are_identical_for_one_and_two_threads() {
                 m.join("motor.ply").to_str().unwrap(),
                 "--sensor",
                 "zivid-2plus-m130",
-                "--binning",
-                "4",
+                "--sampling",
+                "by4x4",
                 "--look-at",
                 "0.05,-1.2,0.6,0,0,0.09",
                 "--format",
@@ -639,8 +639,8 @@ fn scan_mesh(mesh: &Path, out: &Path) -> Output {
     motorfactory()
         .args([
             "scan",
-            "--binning",
-            "4",
+            "--sampling",
+            "by4x4",
             "--look-at",
             "0,0,-1,0,0,0",
             "--mesh",
@@ -777,7 +777,7 @@ fn work_that_cannot_fit_is_refused_before_anything_is_written() {
     spec.intrinsics.width = 16384;
     spec.intrinsics.height = 16384;
     let mut config = toml::Table::new();
-    config.insert("sensor".into(), toml::toml! { binning = 1 }.into());
+    config.insert("sensor".into(), toml::toml! { sampling = "all" }.into());
     config["sensor"]
         .as_table_mut()
         .unwrap()
@@ -1078,8 +1078,8 @@ fn preview_and_scan_options_follow_the_common_rules() {
         "scan",
         "--mesh",
         m.join("motor.ply").to_str().unwrap(),
-        "--binning",
-        "4",
+        "--sampling",
+        "by4x4",
         "--look-at",
         "0.05,-1.2,0.6,0,0,0.09",
         "--units",

@@ -276,7 +276,7 @@ fn bad_configurations_are_refused_and_write_nothing() {
         ),
         (vec!["--set", "camera.views=\"two\""], "camera.views"),
         (vec!["--set", "sensor.preset=zivid-9"], "zivid-9"),
-        (vec!["--set", "sensor.binning=3"], "sensor.binning"),
+        (vec!["--set", "sensor.sampling=by3x3"], "sensor.sampling"),
         (
             vec!["--set", "sensor.noise.dropout.rate=2.0"],
             "dropout.rate",

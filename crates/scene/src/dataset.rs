@@ -229,7 +229,7 @@ impl Dataset {
             .saturating_add(32 << 20)
     }
 
-    /// The sensor of the dataset's samples (of the sweeps' first combination), binning applied.
+    /// The sensor of the dataset's samples (of the sweeps' first combination), its sampling applied.
     pub fn sensor(&self) -> &sensor::SensorSpec {
         self.base.sensor()
     }

@@ -69,7 +69,7 @@ pub struct Recipe {
     pub sweep: Vec<(String, toml::Value)>,
     /// The motor parameter space of each variant (one space when no variants are listed).
     spaces: Vec<ParamSpace>,
-    /// The sensor, binning applied.
+    /// The sensor, its sampling applied.
     sensor: SensorSpec,
 }
 
@@ -105,7 +105,7 @@ impl Recipe {
         (variant, level, split)
     }
 
-    /// The sensor, binning applied.
+    /// The sensor, its sampling applied.
     pub fn sensor(&self) -> &SensorSpec {
         &self.sensor
     }

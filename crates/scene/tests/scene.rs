@@ -241,7 +241,7 @@ fn every_variant_level_and_split_cell_holds_its_share_in_every_prefix() {
 #[test]
 fn a_sample_json_reads_back_as_written() {
     let mut table = scene::config::builtin_table("registration").unwrap();
-    scene::set_key(&mut table, "sensor.binning", 4.into()).unwrap();
+    scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
     let out = std::env::temp_dir().join("never-written");
     let dataset = scene::Dataset::new(table, None, None, scene::Shard::ALL, &out).unwrap();
     let sample = scene::make(&dataset.recipe(5).unwrap(), 5).unwrap();

@@ -208,8 +208,45 @@ pub struct Filters {
     pub outlier: OutlierFilter,
     /// `Processing.Filters.Reflection`.
     pub reflection: ReflectionFilter,
+    /// `Processing.Filters.Cluster`.
+    pub cluster: ClusterFilter,
     /// `Processing.Filters.Smoothing`.
     pub smoothing: Smoothing,
+}
+
+/// `Processing.Filters.Cluster`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ClusterFilter {
+    /// `Processing.Filters.Cluster.Removal`.
+    pub removal: ClusterRemoval,
+}
+
+/// `Processing.Filters.Cluster.Removal`: removes the clusters of points whose area is below
+/// `min_area`, a cluster being the points joined through neighbouring pixels (8 around each)
+/// whose points lie within `max_neighbor_distance` of each other; a point's area is its pixel's
+/// footprint at its depth, as the camera sees it. It removes floating blobs (ghosts, wings cut
+/// off from their surface) and keeps surfaces.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ClusterRemoval {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// The largest distance between neighbouring points of one cluster, mm.
+    pub max_neighbor_distance: f32,
+    /// The smallest area a cluster keeps, mm².
+    pub min_area: f32,
+}
+
+impl Default for ClusterRemoval {
+    /// Zivid's values, off.
+    fn default() -> ClusterRemoval {
+        ClusterRemoval {
+            enabled: false,
+            max_neighbor_distance: 10.0,
+            min_area: 100.0,
+        }
+    }
 }
 
 /// `Processing.Filters.Reflection`.
@@ -296,6 +333,65 @@ impl Removal {
     #[inline]
     pub fn removes(&self, value: f32) -> bool {
         self.enabled && value < self.threshold
+    }
+}
+
+/// Which camera pixels make a point, by Zivid's names (`Settings.Sampling.Pixel`): every pixel,
+/// or each 2×2 or 4×4 block summed into one (binning: half or a quarter of the resolution, each
+/// point with the light of 4 or 16 pixels; see [`SensorSpec::binned`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Sampling {
+    /// Every pixel.
+    #[default]
+    #[serde(rename = "all")]
+    All,
+    /// 2×2 blocks.
+    #[serde(rename = "by2x2")]
+    By2x2,
+    /// 4×4 blocks.
+    #[serde(rename = "by4x4")]
+    By4x4,
+}
+
+impl Sampling {
+    /// The names, as Zivid writes them.
+    pub const NAMES: [&str; 3] = ["all", "by2x2", "by4x4"];
+
+    /// The pixels a block has along each side.
+    pub fn factor(self) -> u32 {
+        match self {
+            Sampling::All => 1,
+            Sampling::By2x2 => 2,
+            Sampling::By4x4 => 4,
+        }
+    }
+}
+
+impl std::fmt::Display for Sampling {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(Sampling::NAMES[self.factor().trailing_zeros() as usize])
+    }
+}
+
+impl std::str::FromStr for Sampling {
+    type Err = Error;
+
+    /// A sampling by its name.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] for a name that is not one of [`Sampling::NAMES`].
+    fn from_str(name: &str) -> Result<Sampling, Error> {
+        match name {
+            "all" => Ok(Sampling::All),
+            "by2x2" => Ok(Sampling::By2x2),
+            "by4x4" => Ok(Sampling::By4x4),
+            _ => Err(Error::Invalid {
+                key: "sampling".into(),
+                value: format!("\"{name}\""),
+                allowed: format!("one of {}", Sampling::NAMES.join(", ")),
+            }),
+        }
     }
 }
 
@@ -436,6 +532,13 @@ const ZIVID_PROCESSING: Processing = Processing {
         },
         reflection: ReflectionFilter {
             removal: ReflectionRemoval { enabled: true },
+        },
+        cluster: ClusterFilter {
+            removal: ClusterRemoval {
+                enabled: false,
+                max_neighbor_distance: 10.0,
+                min_area: 100.0,
+            },
         },
         smoothing: Smoothing {
             gaussian: Gaussian {
@@ -766,6 +869,18 @@ impl SensorSpec {
                 filters.outlier.removal.threshold,
                 0.0..=f32::MAX,
                 "a distance >= 0, mm",
+            ),
+            (
+                "processing.filters.cluster.removal.max_neighbor_distance",
+                filters.cluster.removal.max_neighbor_distance,
+                0.0..=f32::MAX,
+                "a distance >= 0, mm",
+            ),
+            (
+                "processing.filters.cluster.removal.min_area",
+                filters.cluster.removal.min_area,
+                0.0..=f32::MAX,
+                "an area >= 0, mm²",
             ),
             (
                 "processing.filters.smoothing.gaussian.sigma",

@@ -10,7 +10,7 @@ mod words;
 use motorgen::{Detail, ParamSpace, Scheme};
 use rand::{Rng, RngExt};
 use sensor::formats::CloudFormat;
-use sensor::{Frame, Noise, SensorSpec, Units};
+use sensor::{Frame, Noise, Sampling, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
@@ -241,17 +241,16 @@ pub struct SensorConfig {
     pub spec: Option<SensorSpec>,
     /// Noise models replacing the sensor's own (every model off unless given).
     pub noise: Option<Noise>,
-    /// Pixel binning: 1, 2 or 4.
-    pub binning: u32,
+    /// Which pixels make a point, by Zivid's names: `all`, `by2x2` or `by4x4`.
+    pub sampling: Sampling,
 }
 
 impl SensorConfig {
-    /// The sensor with binning applied, checked.
+    /// The sensor with its sampling applied, checked.
     ///
     /// # Errors
     ///
-    /// [`Error::Config`] for an unknown preset, a binning other than 1, 2 or
-    /// 4, or a specification the sensor rejects.
+    /// [`Error::Config`] for an unknown preset or a specification the sensor rejects.
     pub fn resolve(&self) -> Result<SensorSpec> {
         let mut spec = match &self.spec {
             Some(spec) => spec.clone(),
@@ -267,13 +266,10 @@ impl SensorConfig {
                 )
             })?,
         };
-        if ![1, 2, 4].contains(&self.binning) {
-            return Err(Error::invalid("sensor.binning", self.binning, "1, 2 or 4"));
-        }
         if let Some(noise) = self.noise {
             spec.noise = noise;
         }
-        let spec = spec.binned(self.binning);
+        let spec = spec.binned(self.sampling.factor());
         spec.validate()
             .map_err(|e| Error::Config(format!("sensor: {e}")))?;
         Ok(spec)

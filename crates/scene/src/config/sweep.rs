@@ -12,7 +12,7 @@ pub const MAX_COMBINATIONS: u64 = 100_000;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Sweep {
-    /// Dotted key, e.g. `motor.params.pole_pot_length` or `sensor.binning`.
+    /// Dotted key, e.g. `motor.params.pole_pot_length` or `sensor.sampling`.
     pub key: String,
     /// The values.
     pub list: Option<Vec<toml::Value>>,

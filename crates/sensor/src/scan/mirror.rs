@@ -24,9 +24,13 @@ pub(super) fn mirrored(
     let p = lit.centre * lit.t;
     let mirror = lit.centre - 2.0 * lit.centre.dot(normal) * normal;
     // from just off the surface, so that it does not meet itself
-    let from = pose.transform_point3(p + gap(lit.t) * normal);
-    let hit = world.cast(from, pose.transform_vector3(mirror), f32::INFINITY)?;
-    let q = p + hit.t * mirror;
+    let from = p + gap(lit.t) * normal;
+    let hit = world.cast(
+        pose.transform_point3(from),
+        pose.transform_vector3(mirror),
+        f32::INFINITY,
+    )?;
+    let q = from + hit.t * mirror;
     if !frustum.lights(q) {
         return None;
     }

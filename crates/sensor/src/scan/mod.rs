@@ -237,7 +237,7 @@ fn scan_pixels(
     if sensor.noise.edges.probability > 0.0 {
         mixed_pixels(&mut scan, window.rows.clone(), sensor, seed);
     }
-    filters::filter(&mut scan, &window, &sensor.processing.filters);
+    filters::filter(&mut scan, &window, sensor);
     scan
 }
 

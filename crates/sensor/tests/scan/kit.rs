@@ -109,21 +109,22 @@ pub fn snr_noise() -> Noise {
 
 /// Every field of every pixel as bits (NaN equal to NaN), to compare scans exactly.
 pub fn bits(s: &Scan) -> Vec<u32> {
-    s.pixels
-        .iter()
-        .flat_map(|p| {
-            [p.point.to_array(), p.clean.to_array(), p.normal.to_array()]
-                .concat()
-                .into_iter()
-                .map(f32::to_bits)
-                .chain([
-                    p.class as u32,
-                    p.instance,
-                    p.intensity.to_bits(),
-                    u32::from_le_bytes([p.rgb[0], p.rgb[1], p.rgb[2], 0]),
-                    p.snr.to_bits(),
-                    p.incidence.to_bits(),
-                ])
-        })
+    s.pixels.iter().flat_map(bits_of).collect()
+}
+
+/// Every field of a pixel as bits.
+pub fn bits_of(p: &Pixel) -> Vec<u32> {
+    [p.point.to_array(), p.clean.to_array(), p.normal.to_array()]
+        .concat()
+        .into_iter()
+        .map(f32::to_bits)
+        .chain([
+            p.class as u32,
+            p.instance,
+            p.intensity.to_bits(),
+            u32::from_le_bytes([p.rgb[0], p.rgb[1], p.rgb[2], 0]),
+            p.snr.to_bits(),
+            p.incidence.to_bits(),
+        ])
         .collect()
 }

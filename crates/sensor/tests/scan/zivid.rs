@@ -3,7 +3,7 @@
 //! error.
 
 use ::sensor::noise::{Axial, Correlated};
-use ::sensor::spec::Gaussian;
+use ::sensor::spec::{ClusterRemoval, Gaussian};
 use ::sensor::*;
 use glam::{Affine3A, Vec3};
 
@@ -465,6 +465,62 @@ fn the_outlier_filter_removes_lone_points_and_nothing_else() {
             assert_eq!(a, b, "a point of the plane changed");
         }
     }
+}
+
+#[test]
+fn the_cluster_filter_removes_small_blobs_and_nothing_else() {
+    // a plane at 0.6 m and, floating before it, squares of 1 cm (100 mm², class 2) and 4 cm
+    // (1600 mm², class 3) seen face on
+    let small = quad(
+        Vec3::new(-0.05, 0.0, 0.55),
+        Vec3::X * 5e-3,
+        Vec3::Y * 5e-3,
+        2,
+        2,
+    );
+    let large = quad(
+        Vec3::new(0.05, 0.0, 0.5),
+        Vec3::X * 0.02,
+        Vec3::Y * 0.02,
+        3,
+        3,
+    );
+    let world = World::new(&[small, large, facing_plane(0.6)]);
+    let mut spec = tof_camera(Noise::default());
+    let open = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    let count = |s: &Scan, class: u16| {
+        s.pixels
+            .iter()
+            .filter(|p| p.class == class && p.is_valid())
+            .count()
+    };
+    // a pixel is (z / 800)² of the surface: about 210 of the small square's
+    assert!((190..230).contains(&count(&open, 2)), "{}", count(&open, 2));
+    for (min_area, small_kept) in [(150.0, false), (50.0, true)] {
+        spec.processing.filters.cluster.removal = ClusterRemoval {
+            enabled: true,
+            max_neighbor_distance: 10.0,
+            min_area,
+        };
+        let filtered = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+        for (a, b) in open.pixels.iter().zip(&filtered.pixels) {
+            if a.class == 2 && !small_kept {
+                assert!(!b.is_valid(), "the small square stayed at {min_area} mm²");
+                assert_eq!(a.instance, b.instance);
+            } else {
+                assert_eq!(bits_of(a), bits_of(b), "a point changed at {min_area} mm²");
+            }
+        }
+    }
+    // joined to the plane within the distance, the square is part of a large cluster
+    spec.processing
+        .filters
+        .cluster
+        .removal
+        .max_neighbor_distance = 60.0;
+    spec.processing.filters.cluster.removal.min_area = 150.0;
+    let joined = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    assert_eq!(count(&joined, 2), count(&open, 2));
 }
 
 #[test]
