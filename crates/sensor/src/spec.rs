@@ -210,8 +210,104 @@ pub struct Filters {
     pub reflection: ReflectionFilter,
     /// `Processing.Filters.Cluster`.
     pub cluster: ClusterFilter,
+    /// `Processing.Filters.Hole`.
+    pub hole: HoleFilter,
     /// `Processing.Filters.Smoothing`.
     pub smoothing: Smoothing,
+    /// `Processing.Filters.Experimental`.
+    pub experimental: ExperimentalFilters,
+}
+
+/// `Processing.Filters.Experimental`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ExperimentalFilters {
+    /// `Processing.Filters.Experimental.ContrastDistortion`.
+    pub contrast_distortion: ContrastDistortion,
+}
+
+/// `Processing.Filters.Experimental.ContrastDistortion`: what Zivid does against the contrast
+/// distortion (see [`Wings`]), on the points of a smooth surface pulled by
+/// a step of brightness within the blur (no depth edge, no dark pixel within its reach). Zivid
+/// estimates the pull from its images; the model takes it as the distance between the decoded
+/// column and the point's own.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContrastDistortion {
+    /// `...Correction`: moves each such point back towards its surface by `strength` (0 to 1)
+    /// of its pull.
+    pub correction: Correction,
+    /// `...Removal`: removes each such point whose pull, after the correction, exceeds
+    /// `threshold` stripe periods.
+    pub removal: Removal,
+}
+
+/// `Processing.Filters.Experimental.ContrastDistortion.Correction`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Correction {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// The share of the pull taken back, 0 to 1.
+    pub strength: f32,
+}
+
+impl ContrastDistortion {
+    /// Whether either filter runs.
+    pub fn is_on(&self) -> bool {
+        self.correction.enabled || self.removal.enabled
+    }
+
+    /// The column a point pulled from its own column `own` to `decoded` keeps after the
+    /// filters (`period` the stripes' period), or `None` where the removal takes it.
+    #[inline]
+    pub fn filter(&self, decoded: f32, own: f32, period: f32) -> Option<f32> {
+        let strength = if self.correction.enabled {
+            self.correction.strength
+        } else {
+            0.0
+        };
+        let column = decoded + strength * (own - decoded);
+        let removed =
+            self.removal.enabled && (column - own).abs() > self.removal.threshold * period;
+        (!removed).then_some(column)
+    }
+}
+
+/// `Processing.Filters.Hole`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HoleFilter {
+    /// `Processing.Filters.Hole.Repair`.
+    pub repair: HoleRepair,
+}
+
+/// `Processing.Filters.Hole.Repair`: fills holes. A pixel without a point gets one when points
+/// lie, along its row and its column, on at least `strictness` of its four sides within
+/// `hole_size` × the image's shorter side, and on both sides along the row or the column: on
+/// its own ray at the inverse depth interpolated between the two sides (exact on a plane; the
+/// mean of the row's and the column's where both have two), with its own surface's labels, or
+/// the nearest side's where it sees none, and the nearest side's colour.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HoleRepair {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// The widest hole filled, as a share of the image's shorter side (0 to 1).
+    pub hole_size: f32,
+    /// How many of the four sides must hold a point (1 to 4).
+    pub strictness: u32,
+}
+
+impl Default for HoleRepair {
+    /// Zivid's values, off.
+    fn default() -> HoleRepair {
+        HoleRepair {
+            enabled: false,
+            hole_size: 0.2,
+            strictness: 2,
+        }
+    }
 }
 
 /// `Processing.Filters.Cluster`.
@@ -313,6 +409,20 @@ pub struct Gaussian {
 pub struct NoiseFilter {
     /// `Processing.Filters.Noise.Removal`.
     pub removal: Removal,
+    /// `Processing.Filters.Noise.Repair`.
+    pub repair: Repair,
+}
+
+/// `Processing.Filters.Noise.Repair`: gives the points the noise filter removed back where
+/// their neighbours are a surface: a pixel whose surface the projector lights, removed for its
+/// SNR, with points in at least 6 of its 8 neighbours, gets a point on its own ray at their
+/// mean inverse depth (their colour's mean). A removed region wider than a pixel stays empty
+/// but for its rim.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Repair {
+    /// Whether the filter runs.
+    pub enabled: bool,
 }
 
 /// A filter that removes points by a threshold. `Processing.Filters.Noise.Removal` removes the
@@ -512,10 +622,15 @@ const ZIVID_CALIBRATION: Calibration = Calibration {
     warp: 4e-5,
 };
 
-/// Zivid's noise filter at the SNR Zivid names as the least for good precision (7).
-/// Zivid's outlier filter and Gaussian smoothing are configured at Zivid's recommended values
-/// (5 mm; σ 1.5 px, "for most conditions") but left off: the noise model is calibrated to
-/// Zivid's published point precision, which does not say whether it was filtered.
+/// Zivid's noise filter at the SNR Zivid names as the least for good precision (7), its
+/// reflection filter on and its contrast-distortion correction on at strength 0.3 (removal off
+/// at 0.2), its cluster filter off at 10 mm and 100 mm² and its hole repair off at 0.2 and
+/// strictness 2, as Zivid's settings data model
+/// has them (`zivid/zivid-python`, `test/test_data/datamodels/Settings.yml`). Zivid's outlier
+/// filter and Gaussian smoothing are configured at Zivid's recommended values (5 mm; σ 1.5 px,
+/// "for most conditions") but left off, and so is the noise filter's repair: the noise model is
+/// calibrated to Zivid's published point precision, which does not say whether it was
+/// filtered.
 const ZIVID_PROCESSING: Processing = Processing {
     filters: Filters {
         noise: NoiseFilter {
@@ -523,6 +638,7 @@ const ZIVID_PROCESSING: Processing = Processing {
                 enabled: true,
                 threshold: 7.0,
             },
+            repair: Repair { enabled: false },
         },
         outlier: OutlierFilter {
             removal: Removal {
@@ -540,10 +656,29 @@ const ZIVID_PROCESSING: Processing = Processing {
                 min_area: 100.0,
             },
         },
+        hole: HoleFilter {
+            repair: HoleRepair {
+                enabled: false,
+                hole_size: 0.2,
+                strictness: 2,
+            },
+        },
         smoothing: Smoothing {
             gaussian: Gaussian {
                 enabled: false,
                 sigma: 1.5,
+            },
+        },
+        experimental: ExperimentalFilters {
+            contrast_distortion: ContrastDistortion {
+                correction: Correction {
+                    enabled: true,
+                    strength: 0.3,
+                },
+                removal: Removal {
+                    enabled: false,
+                    threshold: 0.2,
+                },
             },
         },
     },
@@ -881,6 +1016,30 @@ impl SensorSpec {
                 filters.cluster.removal.min_area,
                 0.0..=f32::MAX,
                 "an area >= 0, mm²",
+            ),
+            (
+                "processing.filters.experimental.contrast_distortion.correction.strength",
+                filters.experimental.contrast_distortion.correction.strength,
+                0.0..=1.0,
+                "a share from 0 to 1",
+            ),
+            (
+                "processing.filters.experimental.contrast_distortion.removal.threshold",
+                filters.experimental.contrast_distortion.removal.threshold,
+                0.0..=f32::MAX,
+                "a share of a stripe period >= 0",
+            ),
+            (
+                "processing.filters.hole.repair.hole_size",
+                filters.hole.repair.hole_size,
+                0.0..=1.0,
+                "a share of the image's shorter side from 0 to 1",
+            ),
+            (
+                "processing.filters.hole.repair.strictness",
+                filters.hole.repair.strictness as f32,
+                1.0..=4.0,
+                "1, 2, 3 or 4 sides",
             ),
             (
                 "processing.filters.smoothing.gaussian.sigma",

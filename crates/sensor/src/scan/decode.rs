@@ -122,7 +122,8 @@ impl Stripes {
 /// saturates it, a filter removes it (the noise filter; the reflection filter where a
 /// pattern's phase and the coarser pattern's column disagree) or the column's light plane
 /// meets the ray out of range. A pixel without a surface of its own takes the labels and colour
-/// of `strongest`, the surface whose light dominates.
+/// of `strongest`, the surface whose light dominates. A pixel `pulled` by a step of brightness
+/// alone (a smooth surface) goes through Zivid's contrast-distortion filters.
 pub(super) fn decode(
     setup: &Capture,
     stripes: &Stripes,
@@ -130,6 +131,7 @@ pub(super) fn decode(
     [c, row]: [usize; 2],
     px: &Pixel,
     strongest: &Pixel,
+    pulled: bool,
 ) -> Pixel {
     let sensor = setup.sensor;
     let k = &sensor.intrinsics;
@@ -159,6 +161,20 @@ pub(super) fn decode(
     let coarse = sum.column / sum.coarse;
     let (middle, middle_off) = unwrap(sum.phasor[1], MIDDLE * period, coarse);
     let (column, fine_off) = unwrap(sum.phasor[0], period, middle);
+    let filters = &sensor.processing.filters;
+    let column = if pulled {
+        let own = frustum.column(px.clean);
+        match filters
+            .experimental
+            .contrast_distortion
+            .filter(column, own, period)
+        {
+            Some(column) => column,
+            None => return out,
+        }
+    } else {
+        column
+    };
     // the stripes' contrast left after the blur, against what the blur leaves on a smooth
     // surface (which the SNR model's precision already holds)
     let [cos, sin] = sum.phasor[0];
@@ -175,7 +191,7 @@ pub(super) fn decode(
         sum.amplitude
     };
     // a pixel the blur of a highlight saturates, or a filter removes, has no point
-    let reflection = &sensor.processing.filters.reflection.removal;
+    let reflection = &filters.reflection.removal;
     if sensor.filters_out(snr)
         || sensor.noise.specular.saturates(intensity)
         || reflection.removes(middle_off.max(fine_off))

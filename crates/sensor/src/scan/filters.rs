@@ -8,13 +8,22 @@ use rayon::prelude::*;
 use super::{Pixel, Scan, Window, gaussian, reach};
 use crate::spec::SensorSpec;
 
-/// Applies the enabled filters of `sensor`'s processing to the pixels of `window`: outliers
-/// first, then clusters, then smoothing.
+/// Applies the enabled filters of `sensor`'s processing to the pixels of `window`: the noise
+/// filter's repair first, then outliers, holes, clusters and smoothing.
 pub(super) fn filter(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
     let filters = &sensor.processing.filters;
+    if filters.noise.repair.enabled && sensor.noise.snr.is_on() {
+        repair_noise(scan, window, sensor);
+    }
     let outlier = filters.outlier.removal;
     if outlier.enabled {
         remove_outliers(scan, window, outlier.threshold * 1e-3);
+    }
+    let holes = filters.hole.repair;
+    if holes.enabled {
+        let shorter = scan.width.min(scan.height) as f32;
+        let widest = (holes.hole_size * shorter) as usize;
+        repair_holes(scan, window, sensor, widest, holes.strictness as usize);
     }
     let cluster = filters.cluster.removal;
     if cluster.enabled {
@@ -59,6 +68,67 @@ fn each_point(scan: &mut Scan, window: &Window, f: impl Fn(usize, usize, &mut Pi
         });
 }
 
+/// Gives each pixel the noise filter removed (lit, its SNR below the filter's threshold, not
+/// saturated) with points in at least 6 of its 8 neighbours a point on its own ray at their mean
+/// inverse depth, with their mean colour, if that lies in the working range.
+fn repair_noise(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
+    let (w, h) = (window.cols.len(), window.rows.len());
+    let stride = scan.width as usize;
+    let pixel = |r: usize, c: usize| (window.rows.start + r) * stride + window.cols.start + c;
+    let before: Vec<(f32, [u8; 3])> = (0..h)
+        .flat_map(|r| (0..w).map(move |c| (r, c)))
+        .map(|(r, c)| {
+            let p = &scan.pixels[pixel(r, c)];
+            (
+                if p.is_valid() {
+                    1.0 / p.point.z
+                } else {
+                    f32::NAN
+                },
+                p.rgb,
+            )
+        })
+        .collect();
+    let removed = |p: &Pixel| {
+        !p.is_valid()
+            && !p.clean.x.is_nan()
+            && p.intensity > 0.0
+            && p.snr > 0.0
+            && sensor.filters_out(p.snr)
+            && !sensor.noise.specular.saturates(p.intensity)
+    };
+    scan.pixels[window.rows.start * stride..window.rows.end * stride]
+        .par_chunks_mut(stride)
+        .enumerate()
+        .for_each(|(r, line)| {
+            for (c, px) in line[window.cols.clone()].iter_mut().enumerate() {
+                if !removed(px) {
+                    continue;
+                }
+                let around = reach(r, 1, h)
+                    .flat_map(|rr| reach(c, 1, w).map(move |cc| (rr, cc)))
+                    .filter(|&(rr, cc)| (rr, cc) != (r, c))
+                    .map(|(rr, cc)| before[rr * w + cc])
+                    .filter(|(inverse, _)| !inverse.is_nan());
+                let (mut n, mut inverse, mut rgb) = (0, 0.0, [0u32; 3]);
+                for (v, colour) in around {
+                    n += 1;
+                    inverse += v;
+                    for (sum, channel) in rgb.iter_mut().zip(colour) {
+                        *sum += u32::from(channel);
+                    }
+                }
+                let z = n as f32 / inverse;
+                if n < 6 || !sensor.in_range(z) {
+                    continue;
+                }
+                let dir = px.clean.normalize();
+                px.point = dir * (z / dir.z);
+                px.rgb = rgb.map(|sum| ((sum + n / 2) / n) as u8);
+            }
+        });
+}
+
 /// Removes the points none of whose 8 neighbours lies within `threshold` metres.
 fn remove_outliers(scan: &mut Scan, window: &Window, threshold: f32) {
     let (w, h) = (window.cols.len(), window.rows.len());
@@ -73,6 +143,140 @@ fn remove_outliers(scan: &mut Scan, window: &Window, threshold: f32) {
             px.point = Vec3::NAN;
         }
     });
+}
+
+/// Fills each pixel without a point that has points on at least `strictness` of its four sides
+/// (along its row and column, within `widest` pixels) and on both sides along the row or the
+/// column: on its own ray at the inverse depth interpolated linearly between the two sides
+/// (the mean of the row's and the column's where both have two), with its own surface's labels
+/// (or the nearest side's where it sees none) and the nearest side's colour.
+fn repair_holes(
+    scan: &mut Scan,
+    window: &Window,
+    sensor: &SensorSpec,
+    widest: usize,
+    strictness: usize,
+) {
+    let (w, h) = (window.cols.len(), window.rows.len());
+    let stride = scan.width as usize;
+    let inverse: Vec<f32> = points(scan, window).iter().map(|p| 1.0 / p.z).collect();
+    // the nearest row with a point above and below each pixel (or none), row by row
+    let mut above = vec![u32::MAX; w * h];
+    let mut below = vec![u32::MAX; w * h];
+    for r in 0..h {
+        for c in 0..w {
+            let i = r * w + c;
+            above[i] = if !inverse[i].is_nan() {
+                r as u32
+            } else if r > 0 {
+                above[i - w]
+            } else {
+                u32::MAX
+            };
+        }
+    }
+    for r in (0..h).rev() {
+        for c in 0..w {
+            let i = r * w + c;
+            below[i] = if !inverse[i].is_nan() {
+                r as u32
+            } else if r + 1 < h {
+                below[i + w]
+            } else {
+                u32::MAX
+            };
+        }
+    }
+    let source = &scan.pixels;
+    let k = &sensor.intrinsics;
+    let filled: Vec<Vec<(usize, Pixel)>> = (0..h)
+        .into_par_iter()
+        .map(|r| {
+            let row = &inverse[r * w..(r + 1) * w];
+            // the nearest column with a point left and right of each pixel
+            let mut left = vec![usize::MAX; w];
+            let mut right = vec![usize::MAX; w];
+            for c in 0..w {
+                left[c] = if !row[c].is_nan() {
+                    c
+                } else if c > 0 {
+                    left[c - 1]
+                } else {
+                    usize::MAX
+                };
+            }
+            for c in (0..w).rev() {
+                right[c] = if !row[c].is_nan() {
+                    c
+                } else if c + 1 < w {
+                    right[c + 1]
+                } else {
+                    usize::MAX
+                };
+            }
+            let mut out = Vec::new();
+            for c in (0..w).filter(|&c| row[c].is_nan()) {
+                let i = r * w + c;
+                // each side's (distance, window index), within reach
+                let side = |at: usize, distance: usize| {
+                    (at != usize::MAX && distance <= widest).then_some((distance, at))
+                };
+                let (up, down) = (above[i] as usize, below[i] as usize);
+                let sides = [
+                    side(left[c], c.wrapping_sub(left[c])).map(|(d, cc)| (d, r * w + cc)),
+                    side(right[c], right[c].wrapping_sub(c)).map(|(d, cc)| (d, r * w + cc)),
+                    (above[i] != u32::MAX)
+                        .then(|| side(up, r - up))
+                        .flatten()
+                        .map(|(d, rr)| (d, rr * w + c)),
+                    (below[i] != u32::MAX)
+                        .then(|| side(down, down - r))
+                        .flatten()
+                        .map(|(d, rr)| (d, rr * w + c)),
+                ];
+                if sides.iter().flatten().count() < strictness {
+                    continue;
+                }
+                let between = |a: Option<(usize, usize)>, b: Option<(usize, usize)>| {
+                    let ((da, ia), (db, ib)) = (a?, b?);
+                    Some((db as f32 * inverse[ia] + da as f32 * inverse[ib]) / (da + db) as f32)
+                };
+                let spans = [between(sides[0], sides[1]), between(sides[2], sides[3])];
+                let found: Vec<f32> = spans.into_iter().flatten().collect();
+                if found.is_empty() {
+                    continue;
+                }
+                let z = found.len() as f32 / found.iter().sum::<f32>();
+                if !sensor.in_range(z) {
+                    continue;
+                }
+                let Some(&(_, nearest)) = sides.iter().flatten().min() else {
+                    continue;
+                };
+                let pixel =
+                    |j: usize| (window.rows.start + j / w) * stride + window.cols.start + j % w;
+                let (own, near) = (&source[pixel(i)], &source[pixel(nearest)]);
+                let (col, row_in_image) = (window.cols.start + c, window.rows.start + r);
+                let dir = k.ray(col as f64, row_in_image as f64);
+                let labels = if own.clean.x.is_nan() { near } else { own };
+                out.push((
+                    pixel(i),
+                    Pixel {
+                        point: dir * (z / dir.z),
+                        rgb: near.rgb,
+                        class: labels.class,
+                        instance: labels.instance,
+                        normal: labels.normal,
+                        ..*own
+                    },
+                ));
+            }
+            out
+        })
+        .collect();
+    for (i, px) in filled.into_iter().flatten() {
+        scan.pixels[i] = px;
+    }
 }
 
 /// Removes the clusters of points of less than `min_area` m², a cluster being the points joined

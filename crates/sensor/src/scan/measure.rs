@@ -96,14 +96,8 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
             rgb: srgb(colour, sensor.colour.noise, rng),
             ..own
         };
-        *px = decode(
-            setup,
-            stripes,
-            &sum,
-            [col as usize, row as usize],
-            &own,
-            &coloured,
-        );
+        let at = [col as usize, row as usize];
+        *px = decode(setup, stripes, &sum, at, &own, &coloured, false);
         return;
     }
     if sensor.filters_out(snr) {

@@ -96,20 +96,33 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
             }
         });
     let lit = Counts::new(&grid(h, w, |r, c| !depth[r * w + c].is_nan()), w);
-    // where the depths bend (second differences) or the signal steps, along a row or a column
-    let bends = Counts::new(
-        &grid(h, w, |r, c| {
-            let (i, z) = (r * w + c, depth[r * w + c]);
-            let bend = |a: f32, b: f32| (a + b - 2.0 * z).abs() > JUMP * z;
-            let step = |j: usize| {
-                let (a, b) = (signal[i], signal[j]);
-                a > 0.0 && b > 0.0 && a.max(b) > STEP * a.min(b)
-            };
-            (c > 0 && c + 1 < w && (bend(depth[i - 1], depth[i + 1]) || step(i + 1)))
-                || (r > 0 && r + 1 < h && (bend(depth[i - w], depth[i + w]) || step(i + w)))
-        }),
-        w,
-    );
+    // where the depths bend (second differences), and where the signal steps, along a row or
+    // a column
+    let bend = |r: usize, c: usize| {
+        let (i, z) = (r * w + c, depth[r * w + c]);
+        let bends = |a: f32, b: f32| (a + b - 2.0 * z).abs() > JUMP * z;
+        (c > 0 && c + 1 < w && bends(depth[i - 1], depth[i + 1]))
+            || (r > 0 && r + 1 < h && bends(depth[i - w], depth[i + w]))
+    };
+    let step = |r: usize, c: usize| {
+        let i = r * w + c;
+        let steps = |j: usize| {
+            let (a, b) = (signal[i], signal[j]);
+            a > 0.0 && b > 0.0 && a.max(b) > STEP * a.min(b)
+        };
+        (c > 0 && c + 1 < w && steps(i + 1)) || (r > 0 && r + 1 < h && steps(i + w))
+    };
+    let bends = Counts::new(&grid(h, w, |r, c| bend(r, c) || step(r, c)), w);
+    // with Zivid's contrast-distortion filters, the pixels pulled by steps of brightness alone
+    // are told apart: no dark pixel and no bend of the depths within reach
+    let contrast = sensor.processing.filters.experimental.contrast_distortion;
+    let depth_bends = contrast.is_on().then(|| Counts::new(&grid(h, w, bend), w));
+    let pulled = |r: usize, c: usize| {
+        let (rs, cs) = (reach(r, h), reach(c, w));
+        depth_bends.as_ref().is_some_and(|bends| {
+            lit.within(&rs, &cs) == (rs.len() * cs.len()) as u32 && bends.within(&rs, &cs) == 0
+        })
+    };
     // the pixels the blur changes, of those with a point and the dark (a lit pixel the sensor
     // lost keeps its loss): light within reach, and a dark pixel within reach (the image's edge
     // is not an edge of the scene: the lens images what lies beyond it) or a bend (on a plane,
@@ -179,7 +192,9 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
                     };
                     let (i, at) = (index(r, c), [c0 + c, window.rows.start + r]);
                     let other = &pixels[index(strongest.0, strongest.1)];
-                    out.push((i, decode(setup, stripes, &sum, at, &pixels[i], other)));
+                    let px = &pixels[i];
+                    let decoded = decode(setup, stripes, &sum, at, px, other, pulled(r, c));
+                    out.push((i, decoded));
                 }
             }
             out

@@ -3,7 +3,7 @@
 //! error.
 
 use ::sensor::noise::{Axial, Correlated};
-use ::sensor::spec::{ClusterRemoval, Gaussian};
+use ::sensor::spec::{ClusterRemoval, Correction, Gaussian, HoleRepair};
 use ::sensor::*;
 use glam::{Affine3A, Vec3};
 
@@ -381,25 +381,26 @@ fn wings_reach_into_the_projectors_shadow() {
     assert!(per_row > 1.0 && per_row < 6.0, "{into_shadow} of {shadow}");
 }
 
+/// A plane at 0.6 m, dark (reflectivity 0.05) on one side of a line through the centre and
+/// white (0.9) on the other, the line across `across`: no depth edge, only a step of brightness.
+fn halves(across: Vec3) -> World {
+    let along = Vec3::Z.cross(across);
+    let half = |sign: f32, reflectivity: f32| {
+        let mut q = quad(
+            Vec3::new(0.0, 0.0, 0.6) + across * 2.5 * sign,
+            across * 2.5,
+            along * 5.0,
+            1,
+            1,
+        );
+        q.material.reflectivity = reflectivity;
+        q
+    };
+    World::new(&[half(-1.0, 0.05), half(1.0, 0.9)])
+}
+
 #[test]
 fn contrast_distortion_pulls_dark_pixels_beside_bright_ones_across_the_baseline_only() {
-    // a plane at 0.6 m, dark (reflectivity 0.05) on one side of a line and white (0.9) on the
-    // other: no depth edge, only a step of brightness
-    let halves = |across: Vec3| {
-        let along = Vec3::Z.cross(across);
-        let half = |sign: f32, reflectivity: f32| {
-            let mut q = quad(
-                Vec3::new(0.0, 0.0, 0.6) + across * 2.5 * sign,
-                across * 2.5,
-                along * 5.0,
-                1,
-                1,
-            );
-            q.material.reflectivity = reflectivity;
-            q
-        };
-        World::new(&[half(-1.0, 0.05), half(1.0, 0.9)])
-    };
     let mut noise = snr_noise();
     noise.wings.psf_px = 1.0;
     let spec = structured(noise);
@@ -430,6 +431,78 @@ fn contrast_distortion_pulls_dark_pixels_beside_bright_ones_across_the_baseline_
     assert!(
         along < across / 10.0,
         "along the baseline: {along} m vs {across} m"
+    );
+}
+
+#[test]
+fn contrast_distortion_filters_take_back_the_pull_and_remove_what_is_left() {
+    // exact ranges: a point's depth error is its pull alone
+    let mut noise = snr_noise();
+    noise.wings.psf_px = 1.0;
+    noise.snr.disparity_px = 0.0;
+    let with = |strength: Option<f32>, removal: Option<f32>| {
+        let mut spec = structured(noise);
+        let filters = &mut spec.processing.filters.experimental.contrast_distortion;
+        if let Some(strength) = strength {
+            filters.correction = Correction {
+                enabled: true,
+                strength,
+            };
+        }
+        if let Some(threshold) = removal {
+            filters.removal = Removal {
+                enabled: true,
+                threshold,
+            };
+        }
+        spec
+    };
+    let world = halves(Vec3::X);
+    let errors = |spec: &SensorSpec| -> Vec<f32> {
+        let s = scan(&world, spec, &Affine3A::IDENTITY, 3);
+        s.pixels
+            .iter()
+            .map(|p| {
+                if p.is_valid() {
+                    p.point.z - p.clean.z
+                } else {
+                    f32::NAN
+                }
+            })
+            .collect()
+    };
+    let raw = errors(&with(None, None));
+    let pulled: Vec<usize> = (0..raw.len()).filter(|&i| raw[i].abs() > 1e-4).collect();
+    assert!(pulled.len() > 400 * 2, "{} pulled", pulled.len());
+    // half the pull taken back: each pulled point's error halves (the depth is nearly linear
+    // in the column over a pull this small); all of it: every point on its surface
+    let half = errors(&with(Some(0.5), None));
+    for &i in &pulled {
+        let ratio = half[i] / raw[i];
+        assert!((0.45..0.55).contains(&ratio), "pixel {i}: {ratio}");
+    }
+    let full = errors(&with(Some(1.0), None));
+    assert!(full.iter().all(|e| e.is_nan() || e.abs() < 1e-5));
+    // the removal takes the pulled points beyond its threshold and leaves the others as they
+    // were
+    let removed = errors(&with(None, Some(0.01)));
+    let gone = (0..raw.len())
+        .filter(|&i| !raw[i].is_nan() && removed[i].is_nan())
+        .count();
+    assert!(
+        gone > 0 && gone <= pulled.len(),
+        "{gone} of {} removed",
+        pulled.len()
+    );
+    for i in 0..raw.len() {
+        assert!(removed[i].is_nan() || removed[i].to_bits() == raw[i].to_bits());
+    }
+    // wings at a depth edge are no contrast distortion: the filters leave them
+    let edge = step(0.6, 0.61);
+    let at_edge = |spec: &SensorSpec| bits(&scan(&edge, spec, &Affine3A::IDENTITY, 3));
+    assert_eq!(
+        at_edge(&with(Some(1.0), Some(0.01))),
+        at_edge(&with(None, None))
     );
 }
 
@@ -467,6 +540,125 @@ fn the_outlier_filter_removes_lone_points_and_nothing_else() {
     }
 }
 
+/// The SNR model with exact ranges (the pattern's noise off) and Zivid's noise filter at 7.
+fn exact_and_noise_filtered() -> SensorSpec {
+    let mut noise = snr_noise();
+    noise.snr.disparity_px = 0.0;
+    let mut spec = structured(noise);
+    spec.processing.filters.noise.removal = Removal {
+        enabled: true,
+        threshold: 7.0,
+    };
+    spec
+}
+
+/// The points of class `class`.
+fn points_of(s: &Scan, class: u16) -> usize {
+    s.pixels
+        .iter()
+        .filter(|p| p.class == class && p.is_valid())
+        .count()
+}
+
+#[test]
+fn noise_repair_fills_lone_removed_pixels_and_nothing_else() {
+    // a white plane at 0.6 m with dark stripes (reflectivity 0.005: SNR under 2) across the
+    // rows: one a pixel wide (column 250), one ten (columns 300 to 309)
+    let pitch = 0.6 / 800.0;
+    let x = |col: f32| (col - 249.5) * pitch;
+    let stripe = |x0: f32, x1: f32, reflectivity: f32, class: u16| {
+        let mut t = quad(
+            Vec3::new(0.5 * (x0 + x1), 0.0, 0.6),
+            Vec3::X * 0.5 * (x1 - x0),
+            Vec3::Y * 0.3,
+            class,
+            u32::from(class),
+        );
+        t.material.reflectivity = reflectivity;
+        t
+    };
+    let edges = [-0.3, x(249.5), x(250.5), x(299.5), x(309.5), 0.3];
+    let world = World::new(&[
+        stripe(edges[0], edges[1], 1.0, 1),
+        stripe(edges[1], edges[2], 0.005, 2),
+        stripe(edges[2], edges[3], 1.0, 1),
+        stripe(edges[3], edges[4], 0.005, 3),
+        stripe(edges[4], edges[5], 1.0, 1),
+    ]);
+    // exact ranges, to see where the repaired points land
+    let mut spec = exact_and_noise_filtered();
+    let removed = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    assert_eq!((points_of(&removed, 2), points_of(&removed, 3)), (0, 0));
+    spec.processing.filters.noise.repair.enabled = true;
+    let repaired = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    // the one-pixel stripe comes back but in the first and last row (5 neighbours), on the
+    // plane, with the mean of the white neighbours' colours; the wide one stays empty
+    assert_eq!((points_of(&repaired, 2), points_of(&repaired, 3)), (398, 0));
+    for (i, (a, b)) in removed.pixels.iter().zip(&repaired.pixels).enumerate() {
+        if a.class == 2 && b.is_valid() {
+            assert!((b.point.z - 0.6).abs() < 1e-5, "{}", b.point.z);
+            let around = [i - 501, i - 499, i - 1, i + 1, i + 499, i + 501];
+            for k in 0..3 {
+                let channel = around.map(|j| removed.pixels[j].rgb[k]);
+                let (lo, hi) = (channel.iter().min(), channel.iter().max());
+                assert!((lo.unwrap()..=hi.unwrap()).contains(&&b.rgb[k]));
+            }
+        } else {
+            assert_eq!(bits_of(a), bits_of(b), "another pixel changed");
+        }
+    }
+}
+
+#[test]
+fn hole_repair_fills_holes_as_wide_as_it_is_told_on_their_surface() {
+    // a white plane through (0, 0, 0.6) turned 20° about y, and on it (10 µm before it) a dark
+    // square (reflectivity 0.005: the noise filter removes it) about 10 pixels wide
+    let turn = 20f32.to_radians();
+    let (u, v) = (Vec3::new(turn.cos(), 0.0, turn.sin()), Vec3::Y);
+    let normal = u.cross(v);
+    let centre = Vec3::new(0.0375, -0.0375, 0.6 + 0.0375 * turn.tan());
+    let mut dark = quad(centre - 1e-5 * normal, u * 3.8e-3, v * 3.8e-3, 2, 2);
+    dark.material.reflectivity = 0.005;
+    let plane = quad(Vec3::new(0.0, 0.0, 0.6), u * 5.0, v * 5.0, 1, 1);
+    let world = World::new(&[dark, plane]);
+    let spec = exact_and_noise_filtered();
+    let open = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    let hole: Vec<usize> = (0..open.pixels.len())
+        .filter(|&i| open.pixels[i].class == 2)
+        .collect();
+    assert!((80..140).contains(&hole.len()), "{} pixels", hole.len());
+    assert!(hole.iter().all(|&i| !open.pixels[i].is_valid()));
+    let repaired = |hole_size: f32, strictness: u32| {
+        let mut spec = spec.clone();
+        spec.processing.filters.hole.repair = HoleRepair {
+            enabled: true,
+            hole_size,
+            strictness,
+        };
+        scan(&world, &spec, &Affine3A::IDENTITY, 1)
+    };
+    // 0.05 of 400 pixels reaches across it: every pixel filled, on the plane, with its own
+    // surface's labels; nothing else changes
+    let wide = repaired(0.05, 4);
+    for (i, (a, b)) in open.pixels.iter().zip(&wide.pixels).enumerate() {
+        if hole.contains(&i) {
+            // on the plane: inverse depth is linear across a plane's image
+            assert!(b.is_valid(), "pixel {i} not filled");
+            assert!(
+                (b.point.z - b.clean.z).abs() < 5e-5,
+                "{} vs {}",
+                b.point.z,
+                b.clean.z
+            );
+            assert_eq!((b.class, b.instance), (2, 2));
+        } else {
+            assert_eq!(bits_of(a), bits_of(b), "pixel {i} changed");
+        }
+    }
+    // 0.01 (4 pixels) reaches no hole pixel's far side
+    assert_eq!(bits(&repaired(0.01, 1)), bits(&open));
+}
+
 #[test]
 fn the_cluster_filter_removes_small_blobs_and_nothing_else() {
     // a plane at 0.6 m and, floating before it, squares of 1 cm (100 mm², class 2) and 4 cm
@@ -488,14 +680,12 @@ fn the_cluster_filter_removes_small_blobs_and_nothing_else() {
     let world = World::new(&[small, large, facing_plane(0.6)]);
     let mut spec = tof_camera(Noise::default());
     let open = scan(&world, &spec, &Affine3A::IDENTITY, 1);
-    let count = |s: &Scan, class: u16| {
-        s.pixels
-            .iter()
-            .filter(|p| p.class == class && p.is_valid())
-            .count()
-    };
     // a pixel is (z / 800)² of the surface: about 210 of the small square's
-    assert!((190..230).contains(&count(&open, 2)), "{}", count(&open, 2));
+    assert!(
+        (190..230).contains(&points_of(&open, 2)),
+        "{}",
+        points_of(&open, 2)
+    );
     for (min_area, small_kept) in [(150.0, false), (50.0, true)] {
         spec.processing.filters.cluster.removal = ClusterRemoval {
             enabled: true,
@@ -520,7 +710,7 @@ fn the_cluster_filter_removes_small_blobs_and_nothing_else() {
         .max_neighbor_distance = 60.0;
     spec.processing.filters.cluster.removal.min_area = 150.0;
     let joined = scan(&world, &spec, &Affine3A::IDENTITY, 1);
-    assert_eq!(count(&joined, 2), count(&open, 2));
+    assert_eq!(points_of(&joined, 2), points_of(&open, 2));
 }
 
 #[test]
