@@ -713,8 +713,11 @@ impl SensorSpec {
     ///   (0.08 mm at 0.6 m, a third-party transcription of its datasheet); the noise filter at
     ///   SNR 7 ("SNR should be above 7 to yield good precision", Zivid's knowledge base); the
     ///   calibration error within Zivid's dimension trueness (< 0.2 %) and global planarity
-    ///   (0.10 mm); the correlation along the stripes (half the variance over 4 pixels) and the
-    ///   lens's blur (σ 1.5 px, 64 stripes across the projector's field) are assumed.
+    ///   (0.10 mm); the correlation along the stripes (half the variance over 4 pixels), the
+    ///   lens's blur (σ 1.5 px, 64 stripes across the projector's field), the three unwrapping
+    ///   steps (1, 8 and 64 periods across the field) and the reflection filter's tolerance (a
+    ///   quarter of a period) are assumed; interreflection follows each material's specular share
+    ///   and lobe.
     /// - `blensor-tof`: Blensor's `tof` scanner as the MotorFactory datasets used it: 1280×960,
     ///   43.6°×34.6°, Gaussian range noise (0.6 mm, the middle of SynMotor's 0.2-1.2 mm).
     /// - `kinect-v1`: Blensor's `kinect` parameters: 640×480, 55.64°×43.18°, baseline 0.075 m,
@@ -733,7 +736,7 @@ impl SensorSpec {
     /// let m60 = SensorSpec::preset("zivid-2plus-m60")?;
     /// assert_eq!((m60.intrinsics.width, m60.intrinsics.height), (2448, 2048));
     /// assert!(matches!(m60.model, Model::StructuredLight { .. }));
-    /// // 4×4 binning, as the default dataset uses it
+    /// // 4×4 binning: Zivid's `by4x4` sampling
     /// assert_eq!(m60.intrinsics.binned(4).width, 612);
     /// assert!(SensorSpec::preset("zivid-3").is_err());
     /// # Ok::<(), sensor::Error>(())
