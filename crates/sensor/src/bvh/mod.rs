@@ -2,7 +2,8 @@
 //! leaf triangles are stored in traversal order (`build`), and walked by packets of rays from one
 //! origin (`traverse`): each node's four boxes are tested once per packet against the cone the
 //! rays span, nearest child first, and each triangle against four rays at once with a watertight
-//! test (Woop et al. 2013; `triangle`). A single ray is a packet with one live lane.
+//! test (Woop et al. 2013; `triangle`). A single ray walks the same box tests without a
+//! packet's bookkeeping, and tests each triangle alone.
 
 mod build;
 mod traverse;
@@ -10,8 +11,9 @@ mod triangle;
 
 use glam::{Vec3, Vec4};
 
+use traverse::InvRange;
 pub(crate) use traverse::lanes;
-use triangle::Rays4;
+use triangle::{Rays4, ShearedRay};
 
 /// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
 /// x, y, z maxima), and each child's code: an internal node index, [`LEAF`] | triangle slot, or
@@ -109,7 +111,32 @@ impl Bvh {
     /// The closest hit along `origin + t·dir` with `t` in (0, `t_max`); `dir` must be unit length.
     #[inline]
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
-        self.cast_packet(origin, &[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]])[0][0]
+        let ray = ShearedRay::new(origin, dir);
+        let mut best = Hit {
+            t: t_max,
+            triangle: u32::MAX,
+            u: 0.0,
+            v: 0.0,
+        };
+        let mut limit = t_max.next_up();
+        self.walk_one(origin, InvRange::one(dir), t_max, |slot, reach| {
+            if let Some((t, u, v)) = ray.intersect(&self.tris[slot as usize], limit) {
+                let hit = Hit {
+                    t,
+                    triangle: slot,
+                    u,
+                    v,
+                };
+                if let Some(t) = best.closer(hit) {
+                    *reach = t;
+                    limit = t.next_up();
+                }
+            }
+        });
+        (best.triangle != u32::MAX).then(|| Hit {
+            triangle: self.triangle(best.triangle),
+            ..best
+        })
     }
 
     /// The closest hits of a packet of rays from one origin (camera pixels, or shadow rays from
@@ -172,7 +199,15 @@ impl Bvh {
     /// Whether anything lies on `origin + t·dir` for `t` in (0, `t_max`).
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
-        self.occluded_packet(origin, &[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]])[0][0]
+        let ray = ShearedRay::new(origin, dir);
+        let mut blocked = false;
+        self.walk_one(origin, InvRange::one(dir), t_max, |slot, reach| {
+            if ray.intersect(&self.tris[slot as usize], t_max).is_some() {
+                blocked = true;
+                *reach = -1.0; // done
+            }
+        });
+        blocked
     }
 
     /// [`Bvh::occluded`] for a packet of rays from one origin, `G` groups of four, traced
@@ -198,16 +233,15 @@ impl Bvh {
 
     /// (nodes visited, triangles tested) along a ray: traversal cost, for diagnostics.
     pub fn cost(&self, origin: Vec3, dir: Vec3, t_max: f32) -> (u32, u32) {
-        let (dirs, t_max) = (&[[dir; 4]], &[[t_max, 0.0, 0.0, 0.0]]);
-        let rays = Rays4::packet(origin, dirs, t_max);
+        let ray = ShearedRay::new(origin, dir);
         let mut leaves = 0;
-        let mut limit = t_max[0].map(f32::next_up);
-        let nodes = self.walk(origin, &rays, t_max, |_, mask, slot, reach| {
+        let mut limit = t_max.next_up();
+        let nodes = self.walk_one(origin, InvRange::one(dir), t_max, |slot, reach| {
             leaves += 1;
-            rays[0].hits(&self.tris[slot as usize], mask, limit, |lane, (t, ..)| {
-                reach[lane] = t;
-                limit[lane] = t.next_up();
-            });
+            if let Some((t, ..)) = ray.intersect(&self.tris[slot as usize], limit) {
+                *reach = t;
+                limit = t.next_up();
+            }
         });
         (nodes, leaves)
     }

@@ -97,6 +97,60 @@ impl Bvh {
     }
 }
 
+impl Bvh {
+    /// The walk of one ray from `origin` with inverse direction `inv`: what [`Bvh::walk`] does
+    /// for a packet with one live lane (the same box tests, in the same order), without a
+    /// packet's bookkeeping; `leaf(slot, reach)` tests a leaf's triangle and lowers `reach` on
+    /// a hit (to 0 or less to end the walk). Returns the number of nodes visited.
+    #[inline(always)]
+    pub(super) fn walk_one(
+        &self,
+        origin: Vec3,
+        inv: InvRange,
+        t_max: f32,
+        mut leaf: impl FnMut(u32, &mut f32),
+    ) -> u32 {
+        let mut reach = t_max;
+        if self.nodes.is_empty() || reach <= 0.0 {
+            return 0;
+        }
+        let cone = Cone::new(origin, inv);
+        let (mut inline, mut heap) = ([(0, 0.0); STACK], Vec::new());
+        let items: &mut [(u32, f32)] = if self.stack <= STACK {
+            &mut inline
+        } else {
+            heap.resize(self.stack, (0, 0.0));
+            &mut heap
+        };
+        let mut stack = Stack { items, len: 0 };
+        let mut cur = 0;
+        let mut visited = 0;
+        loop {
+            visited += 1;
+            let n = &self.nodes[cur as usize];
+            let (mut mask, near) = cone.enters(n, reach);
+            let base = stack.len;
+            while mask != 0 {
+                let c = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let code = n.child[c];
+                if code & LEAF == 0 {
+                    stack.push_sorted(base, code, near[c]);
+                } else if code != EMPTY {
+                    leaf(code & !LEAF, &mut reach);
+                    if reach <= 0.0 {
+                        return visited;
+                    }
+                }
+            }
+            match stack.pop_within(reach * WIDEN.x) {
+                Some(code) => cur = code,
+                None => return visited,
+            }
+        }
+    }
+}
+
 /// Every (group, lane) of a packet of `G` groups of four rays.
 pub(crate) fn lanes<const G: usize>() -> impl Iterator<Item = (usize, usize)> {
     // one flat range: a flat_map's nested state costs more than the work in some loops
@@ -137,6 +191,12 @@ pub(super) struct InvRange {
 }
 
 impl InvRange {
+    /// The inverse direction of one ray, as [`InvRange::of`] gives it for a lane.
+    #[inline(always)]
+    pub(super) fn one(d: Vec3) -> InvRange {
+        InvRange::of(&[Vec4::splat(d.x), Vec4::splat(d.y), Vec4::splat(d.z)], 1)
+    }
+
     /// The range of the rays in `lanes` (a bit mask), given their direction components per
     /// axis as lanes.
     #[inline(always)]

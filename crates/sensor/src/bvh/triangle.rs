@@ -18,7 +18,7 @@ pub(super) const WIDEN: Vec4 = Vec4::splat(1.0 + 2.0 * GAMMA3);
 
 /// A ray prepared for the watertight test: its dominant axis becomes z, and a shear maps the
 /// direction onto +z.
-struct ShearedRay {
+pub(super) struct ShearedRay {
     origin: Vec3,
     axes: [usize; 3],
     shear: Vec3,
@@ -26,7 +26,7 @@ struct ShearedRay {
 
 impl ShearedRay {
     #[inline(always)]
-    fn new(origin: Vec3, dir: Vec3) -> ShearedRay {
+    pub(super) fn new(origin: Vec3, dir: Vec3) -> ShearedRay {
         let axes = ShearedRay::axes(dir);
         let [kx, ky, kz] = axes;
         let d = dir.to_array();
@@ -53,7 +53,7 @@ impl ShearedRay {
     /// (t, u, v) when the ray hits the triangle with 0 < t < `t_max`; u and v are the
     /// barycentric weights of the second and third vertex.
     #[inline(always)]
-    fn intersect(&self, tri: &Tri, t_max: f32) -> Option<(f32, f32, f32)> {
+    pub(super) fn intersect(&self, tri: &Tri, t_max: f32) -> Option<(f32, f32, f32)> {
         let [kx, ky, kz] = self.axes;
         let s = self.shear;
         // arrays, not Vec3: glam's Vec3 indexing is a branchy match
