@@ -39,7 +39,62 @@ impl Bvh {
             })
         };
         let mut reach_all = furthest(&reach);
-        // on the call stack for any tree a real mesh gives, on the heap beyond
+        self.with_stack(|mut stack| {
+            let mut cur = 0;
+            let mut visited = 0;
+            loop {
+                visited += 1;
+                let n = &self.nodes[cur as usize];
+                let (mut mask, near) = cone.enters(n, reach_all);
+                let base = stack.len;
+                let mut leaves = 0;
+                while mask != 0 {
+                    let c = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let code = n.child[c];
+                    if code & LEAF == 0 {
+                        stack.push_sorted(base, code, near[c]);
+                    } else if code != EMPTY {
+                        leaves |= 1 << c;
+                    }
+                }
+                if leaves != 0 {
+                    for g in 0..G {
+                        if lanes[g] == 0 {
+                            continue;
+                        }
+                        let mut tested = if G == 1 {
+                            leaves
+                        } else {
+                            let reach = Vec4::from(reach[g]).max_element();
+                            groups[g].enters(n, reach).0 & leaves
+                        };
+                        while tested != 0 && lanes[g] != 0 {
+                            let c = tested.trailing_zeros() as usize;
+                            tested &= tested - 1;
+                            leaf(g, lanes[g], n.child[c] & !LEAF, &mut reach[g]);
+                            lanes[g] = live_lanes(reach[g]);
+                        }
+                    }
+                    if lanes.iter().all(|&l| l == 0) {
+                        return visited;
+                    }
+                    reach_all = furthest(&reach);
+                }
+                match stack.pop_within(reach_all * WIDEN.x) {
+                    Some(code) => cur = code,
+                    None => return visited,
+                }
+            }
+        })
+    }
+}
+
+impl Bvh {
+    /// Runs `walk` with a traversal stack of the size the tree needs: on the call stack for any
+    /// tree a real mesh gives, on the heap beyond.
+    #[inline(always)]
+    fn with_stack<R>(&self, walk: impl FnOnce(Stack<'_>) -> R) -> R {
         let (mut inline, mut heap) = ([(0, 0.0); STACK], Vec::new());
         let items: &mut [(u32, f32)] = if self.stack <= STACK {
             &mut inline
@@ -47,57 +102,9 @@ impl Bvh {
             heap.resize(self.stack, (0, 0.0));
             &mut heap
         };
-        let mut stack = Stack { items, len: 0 };
-        let mut cur = 0;
-        let mut visited = 0;
-        loop {
-            visited += 1;
-            let n = &self.nodes[cur as usize];
-            let (mut mask, near) = cone.enters(n, reach_all);
-            let base = stack.len;
-            let mut leaves = 0;
-            while mask != 0 {
-                let c = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let code = n.child[c];
-                if code & LEAF == 0 {
-                    stack.push_sorted(base, code, near[c]);
-                } else if code != EMPTY {
-                    leaves |= 1 << c;
-                }
-            }
-            if leaves != 0 {
-                for g in 0..G {
-                    if lanes[g] == 0 {
-                        continue;
-                    }
-                    let mut tested = if G == 1 {
-                        leaves
-                    } else {
-                        let reach = Vec4::from(reach[g]).max_element();
-                        groups[g].enters(n, reach).0 & leaves
-                    };
-                    while tested != 0 && lanes[g] != 0 {
-                        let c = tested.trailing_zeros() as usize;
-                        tested &= tested - 1;
-                        leaf(g, lanes[g], n.child[c] & !LEAF, &mut reach[g]);
-                        lanes[g] = live_lanes(reach[g]);
-                    }
-                }
-                if lanes.iter().all(|&l| l == 0) {
-                    return visited;
-                }
-                reach_all = furthest(&reach);
-            }
-            match stack.pop_within(reach_all * WIDEN.x) {
-                Some(code) => cur = code,
-                None => return visited,
-            }
-        }
+        walk(Stack { items, len: 0 })
     }
-}
 
-impl Bvh {
     /// The walk of one ray from `origin` with inverse direction `inv`: what [`Bvh::walk`] does
     /// for a packet with one live lane (the same box tests, in the same order), without a
     /// packet's bookkeeping; `leaf(slot, reach)` tests a leaf's triangle and lowers `reach` on
@@ -115,39 +122,33 @@ impl Bvh {
             return 0;
         }
         let cone = Cone::new(origin, inv);
-        let (mut inline, mut heap) = ([(0, 0.0); STACK], Vec::new());
-        let items: &mut [(u32, f32)] = if self.stack <= STACK {
-            &mut inline
-        } else {
-            heap.resize(self.stack, (0, 0.0));
-            &mut heap
-        };
-        let mut stack = Stack { items, len: 0 };
-        let mut cur = 0;
-        let mut visited = 0;
-        loop {
-            visited += 1;
-            let n = &self.nodes[cur as usize];
-            let (mut mask, near) = cone.enters(n, reach);
-            let base = stack.len;
-            while mask != 0 {
-                let c = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let code = n.child[c];
-                if code & LEAF == 0 {
-                    stack.push_sorted(base, code, near[c]);
-                } else if code != EMPTY {
-                    leaf(code & !LEAF, &mut reach);
-                    if reach <= 0.0 {
-                        return visited;
+        self.with_stack(|mut stack| {
+            let mut cur = 0;
+            let mut visited = 0;
+            loop {
+                visited += 1;
+                let n = &self.nodes[cur as usize];
+                let (mut mask, near) = cone.enters(n, reach);
+                let base = stack.len;
+                while mask != 0 {
+                    let c = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let code = n.child[c];
+                    if code & LEAF == 0 {
+                        stack.push_sorted(base, code, near[c]);
+                    } else if code != EMPTY {
+                        leaf(code & !LEAF, &mut reach);
+                        if reach <= 0.0 {
+                            return visited;
+                        }
                     }
                 }
+                match stack.pop_within(reach * WIDEN.x) {
+                    Some(code) => cur = code,
+                    None => return visited,
+                }
             }
-            match stack.pop_within(reach * WIDEN.x) {
-                Some(code) => cur = code,
-                None => return visited,
-            }
-        }
+        })
     }
 }
 

@@ -160,80 +160,31 @@ fn repair_holes(
     let (w, h) = (window.cols.len(), window.rows.len());
     let stride = scan.width as usize;
     let inverse: Vec<f32> = points(scan, window).iter().map(|p| 1.0 / p.z).collect();
-    // the nearest row with a point above and below each pixel (or none), row by row
-    let mut above = vec![u32::MAX; w * h];
-    let mut below = vec![u32::MAX; w * h];
-    for r in 0..h {
-        for c in 0..w {
-            let i = r * w + c;
-            above[i] = if !inverse[i].is_nan() {
-                r as u32
-            } else if r > 0 {
-                above[i - w]
-            } else {
-                u32::MAX
-            };
-        }
-    }
-    for r in (0..h).rev() {
-        for c in 0..w {
-            let i = r * w + c;
-            below[i] = if !inverse[i].is_nan() {
-                r as u32
-            } else if r + 1 < h {
-                below[i + w]
-            } else {
-                u32::MAX
-            };
-        }
-    }
+    let held = |r: usize, c: usize| !inverse[r * w + c].is_nan();
+    // the nearest row with a point above and below each pixel, column by column
+    let columns: Vec<[Vec<Option<usize>>; 2]> = (0..w)
+        .into_par_iter()
+        .map(|c| nearest_held(h, |r| held(r, c)))
+        .collect();
     let source = &scan.pixels;
     let k = &sensor.intrinsics;
     let filled: Vec<Vec<(usize, Pixel)>> = (0..h)
         .into_par_iter()
         .map(|r| {
-            let row = &inverse[r * w..(r + 1) * w];
             // the nearest column with a point left and right of each pixel
-            let mut left = vec![usize::MAX; w];
-            let mut right = vec![usize::MAX; w];
-            for c in 0..w {
-                left[c] = if !row[c].is_nan() {
-                    c
-                } else if c > 0 {
-                    left[c - 1]
-                } else {
-                    usize::MAX
-                };
-            }
-            for c in (0..w).rev() {
-                right[c] = if !row[c].is_nan() {
-                    c
-                } else if c + 1 < w {
-                    right[c + 1]
-                } else {
-                    usize::MAX
-                };
-            }
+            let [left, right] = nearest_held(w, |c| held(r, c));
             let mut out = Vec::new();
-            for c in (0..w).filter(|&c| row[c].is_nan()) {
+            for c in (0..w).filter(|&c| !held(r, c)) {
                 let i = r * w + c;
+                let [above, below] = &columns[c];
                 // each side's (distance, window index), within reach
-                let side = |at: usize, distance: usize| {
-                    (at != usize::MAX && distance <= widest).then_some((distance, at))
-                };
-                let (up, down) = (above[i] as usize, below[i] as usize);
                 let sides = [
-                    side(left[c], c.wrapping_sub(left[c])).map(|(d, cc)| (d, r * w + cc)),
-                    side(right[c], right[c].wrapping_sub(c)).map(|(d, cc)| (d, r * w + cc)),
-                    (above[i] != u32::MAX)
-                        .then(|| side(up, r - up))
-                        .flatten()
-                        .map(|(d, rr)| (d, rr * w + c)),
-                    (below[i] != u32::MAX)
-                        .then(|| side(down, down - r))
-                        .flatten()
-                        .map(|(d, rr)| (d, rr * w + c)),
-                ];
+                    left[c].map(|cc| (c - cc, r * w + cc)),
+                    right[c].map(|cc| (cc - c, r * w + cc)),
+                    above[r].map(|rr| (r - rr, rr * w + c)),
+                    below[r].map(|rr| (rr - r, rr * w + c)),
+                ]
+                .map(|side| side.filter(|&(distance, _)| distance <= widest));
                 if sides.iter().flatten().count() < strictness {
                     continue;
                 }
@@ -242,11 +193,14 @@ fn repair_holes(
                     Some((db as f32 * inverse[ia] + da as f32 * inverse[ib]) / (da + db) as f32)
                 };
                 let spans = [between(sides[0], sides[1]), between(sides[2], sides[3])];
-                let found: Vec<f32> = spans.into_iter().flatten().collect();
-                if found.is_empty() {
+                let (n, sum) = spans
+                    .iter()
+                    .flatten()
+                    .fold((0, 0.0), |(n, sum), v| (n + 1, sum + v));
+                if n == 0 {
                     continue;
                 }
-                let z = found.len() as f32 / found.iter().sum::<f32>();
+                let z = n as f32 / sum;
                 if !sensor.in_range(z) {
                     continue;
                 }
@@ -277,6 +231,21 @@ fn repair_holes(
     for (i, px) in filled.into_iter().flatten() {
         scan.pixels[i] = px;
     }
+}
+
+/// Along a line of `len` cells, `held(k)` where cell k has a point: for each cell, the nearest
+/// cell with a point at or before it, and at or after it.
+fn nearest_held(len: usize, held: impl Fn(usize) -> bool) -> [Vec<Option<usize>>; 2] {
+    let nearest = |order: &mut dyn Iterator<Item = usize>| {
+        let mut line = vec![None; len];
+        let mut last = None;
+        for k in order {
+            last = if held(k) { Some(k) } else { last };
+            line[k] = last;
+        }
+        line
+    };
+    [nearest(&mut (0..len)), nearest(&mut (0..len).rev())]
 }
 
 /// Removes the clusters of points of less than `min_area` m², a cluster being the points joined
