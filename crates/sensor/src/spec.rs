@@ -354,23 +354,51 @@ pub struct ReflectionFilter {
 }
 
 /// `Processing.Filters.Reflection.Removal`: removes the points whose light came from more than
-/// one surface, found where the finest stripes' phase and the coarser patterns' column disagree
-/// by more than a quarter of a period (a surface's own light makes them agree; the mirrored
-/// light of another surface, or the light of both sides of an edge, pulls them apart). Zivid's
-/// `Mode` (`global` or `local`) is not modelled.
+/// one surface (a surface's own light makes its patterns agree; the mirrored light of another
+/// surface, or the light of both sides of an edge, does not), by the test of its `mode`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ReflectionRemoval {
     /// Whether the filter runs.
     pub enabled: bool,
+    /// Which test finds the mixed light.
+    pub mode: ReflectionMode,
+}
+
+/// `Processing.Filters.Reflection.Removal.Mode`. Zivid describes what each mode keeps, not its
+/// test; the tests here are assumed, each chosen to behave as Zivid describes its mode.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ReflectionMode {
+    /// Zivid's default: a point goes where a pattern's column and the coarser pattern's
+    /// disagree by more than a quarter of the finer pattern's period (the patterns'
+    /// unwrapping, over the whole field).
+    #[default]
+    Global,
+    /// The global test, and a point also goes where the finest and the middle pattern keep
+    /// shares of their modulation more than a quarter apart (each pixel's patterns against each
+    /// other): light from two columns, or blurred by a mirror's lobe, weakens the finer stripes
+    /// more. It finds the ghosts whose column unwraps to the right period, which the global
+    /// test keeps (Zivid: local mode leaves no ghost plane where global leaves a smaller one),
+    /// and removes more of a mixed surface's points. What Zivid says it keeps better (thin and
+    /// pointy objects) is not modelled.
+    Local,
 }
 
 impl ReflectionRemoval {
-    /// Whether the filter removes a point whose phase and column disagree by `mismatch`
-    /// periods (0 to 0.5).
+    /// Whether the filter removes a point whose patterns' columns disagree by `mismatch`
+    /// periods (0 to 0.5) and whose finest and middle pattern keep `modulation` (finest over
+    /// middle, 1 for a single surface's light).
     #[inline]
-    pub fn removes(&self, mismatch: f32) -> bool {
-        self.enabled && mismatch > 0.25
+    pub fn removes(&self, mismatch: f32, modulation: f32) -> bool {
+        const TOLERANCE: f32 = 0.25;
+        self.enabled
+            && match self.mode {
+                ReflectionMode::Global => mismatch > TOLERANCE,
+                ReflectionMode::Local => {
+                    mismatch > TOLERANCE || (modulation - 1.0).abs() > TOLERANCE
+                }
+            }
     }
 }
 
@@ -411,6 +439,27 @@ pub struct NoiseFilter {
     pub removal: Removal,
     /// `Processing.Filters.Noise.Repair`.
     pub repair: Repair,
+    /// `Processing.Filters.Noise.Suppression`.
+    pub suppression: Suppression,
+}
+
+/// `Processing.Filters.Noise.Suppression`: smooths where the signal is weak. Each point whose
+/// SNR is below [`Suppression::BELOW`] takes the mean inverse depth of the points in the 5×5
+/// pixels around it that lie within 3σ of its depth (σ its SNR's range deviation, so a depth
+/// step stays sharp), staying on its ray: a dark, far or grazing surface's noise falls by up
+/// to 5×, a well lit one's is untouched. Zivid describes the filter (noise reduced in low-SNR
+/// regions) but not its kernel; the window and the level are assumed. It needs the SNR model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Suppression {
+    /// Whether the filter runs.
+    pub enabled: bool,
+}
+
+impl Suppression {
+    /// The SNR below which a point is smoothed (a white surface at the focus distance has
+    /// about 75, Zivid's noise filter removes below 7).
+    pub const BELOW: f32 = 20.0;
 }
 
 /// `Processing.Filters.Noise.Repair`: gives the points the noise filter removed back where
@@ -628,9 +677,9 @@ const ZIVID_CALIBRATION: Calibration = Calibration {
 /// strictness 2, as Zivid's settings data model
 /// has them (`zivid/zivid-python`, `test/test_data/datamodels/Settings.yml`). Zivid's outlier
 /// filter and Gaussian smoothing are configured at Zivid's recommended values (5 mm; σ 1.5 px,
-/// "for most conditions") but left off, and so is the noise filter's repair: the noise model is
-/// calibrated to Zivid's published point precision, which does not say whether it was
-/// filtered.
+/// "for most conditions") but left off, and so are the noise filter's repair and suppression:
+/// the noise model is calibrated to Zivid's published point precision, which does not say
+/// whether it was filtered.
 const ZIVID_PROCESSING: Processing = Processing {
     filters: Filters {
         noise: NoiseFilter {
@@ -639,6 +688,7 @@ const ZIVID_PROCESSING: Processing = Processing {
                 threshold: 7.0,
             },
             repair: Repair { enabled: false },
+            suppression: Suppression { enabled: false },
         },
         outlier: OutlierFilter {
             removal: Removal {
@@ -647,7 +697,10 @@ const ZIVID_PROCESSING: Processing = Processing {
             },
         },
         reflection: ReflectionFilter {
-            removal: ReflectionRemoval { enabled: true },
+            removal: ReflectionRemoval {
+                enabled: true,
+                mode: ReflectionMode::Global,
+            },
         },
         cluster: ClusterFilter {
             removal: ClusterRemoval {

@@ -119,8 +119,8 @@ impl Stripes {
 
 /// Pixel `px` (its column and row) decoded from the light `sum` it receives: its point on its
 /// own ray at the decoded column, with the SNR of that light, or none where that light
-/// saturates it, a filter removes it (the noise filter; the reflection filter where a
-/// pattern's phase and the coarser pattern's column disagree) or the column's light plane
+/// saturates it, a filter removes it (the noise filter; the reflection filter where its
+/// patterns disagree) or the column's light plane
 /// meets the ray out of range. A pixel without a surface of its own takes the labels and colour
 /// of `strongest`, the surface whose light dominates. A pixel `pulled` by a step of brightness
 /// alone (a smooth surface) goes through Zivid's contrast-distortion filters.
@@ -177,8 +177,8 @@ pub(super) fn decode(
     };
     // the stripes' contrast left after the blur, against what the blur leaves on a smooth
     // surface (which the SNR model's precision already holds)
-    let [cos, sin] = sum.phasor[0];
-    let contrast = (cos.hypot(sin) / sum.amplitude / smooth).min(1.0);
+    let [fine, middle] = sum.phasor.map(|[cos, sin]| cos.hypot(sin));
+    let contrast = (fine / sum.amplitude / smooth).min(1.0);
     let snr = if snr_model.is_on() {
         let read = snr_model.read_electrons * snr_model.read_electrons;
         (contrast * sum.amplitude / (sum.variance + read).sqrt()).min(255.0)
@@ -194,7 +194,7 @@ pub(super) fn decode(
     let reflection = &filters.reflection.removal;
     if sensor.filters_out(snr)
         || sensor.noise.specular.saturates(intensity)
-        || reflection.removes(middle_off.max(fine_off))
+        || reflection.removes(middle_off.max(fine_off), fine / smooth / middle)
     {
         return out;
     }

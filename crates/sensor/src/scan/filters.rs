@@ -1,17 +1,20 @@
-//! Zivid's point-cloud filters on an organized scan (`Processing.Filters`): outlier and cluster
-//! removal and Gaussian smoothing. The noise and reflection filters act where each pixel is
+//! Zivid's point-cloud filters on an organized scan (`Processing.Filters`): noise suppression
+//! and repair, outlier, hole and cluster filters and Gaussian smoothing. The noise and reflection filters act where each pixel is
 //! decoded.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::{Pixel, Scan, Window, gaussian, reach};
-use crate::spec::SensorSpec;
+use crate::spec::{SensorSpec, Suppression};
 
 /// Applies the enabled filters of `sensor`'s processing to the pixels of `window`: the noise
-/// filter's repair first, then outliers, holes, clusters and smoothing.
+/// filter's suppression and repair first, then outliers, holes, clusters and smoothing.
 pub(super) fn filter(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
     let filters = &sensor.processing.filters;
+    if filters.noise.suppression.enabled && sensor.noise.snr.is_on() {
+        suppress_noise(scan, window, sensor);
+    }
     if filters.noise.repair.enabled && sensor.noise.snr.is_on() {
         repair_noise(scan, window, sensor);
     }
@@ -66,6 +69,33 @@ fn each_point(scan: &mut Scan, window: &Window, f: impl Fn(usize, usize, &mut Pi
                 }
             }
         });
+}
+
+/// Gives each point of SNR below [`Suppression::BELOW`] the mean inverse depth of the points of
+/// the 5×5 pixels around it within 3σ of its depth (σ its SNR's), keeping it on its ray.
+fn suppress_noise(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
+    const RADIUS: usize = 2;
+    let (w, h) = (window.cols.len(), window.rows.len());
+    let depth: Vec<f32> = points(scan, window).iter().map(|p| p.z).collect();
+    let (snr, focal_baseline) = (sensor.noise.snr, sensor.focal_baseline());
+    each_point(scan, window, |r, c, px| {
+        if px.snr >= Suppression::BELOW {
+            return;
+        }
+        let z = depth[r * w + c];
+        let reach_z = 3.0 * snr.sigma_z(px.snr, z, focal_baseline);
+        let (mut n, mut inverse) = (0.0, 0.0);
+        for rr in reach(r, RADIUS, h) {
+            for cc in reach(c, RADIUS, w) {
+                let v = depth[rr * w + cc];
+                if (v - z).abs() <= reach_z {
+                    n += 1.0;
+                    inverse += 1.0 / v;
+                }
+            }
+        }
+        px.point *= n / (inverse * z);
+    });
 }
 
 /// Gives each pixel the noise filter removed (lit, its SNR below the filter's threshold, not

@@ -783,3 +783,70 @@ fn gaussian_smoothing_lowers_the_noise_as_its_weights_do_and_keeps_a_plane() {
         assert!(!a.is_valid() || b.point.normalize().dot(a.point.normalize()) > 1.0 - 1e-6);
     }
 }
+
+#[test]
+fn noise_suppression_smooths_weak_signal_and_keeps_steps_and_strong_signal() {
+    use ::sensor::spec::Suppression;
+    let spec = structured(snr_noise());
+    let mut suppressed = spec.clone();
+    suppressed.processing.filters.noise.suppression.enabled = true;
+    let pose = Affine3A::IDENTITY;
+    // a dark plane (SNR under the filter's level everywhere): its noise falls 3× or more, each
+    // point on its ray
+    let dark = plane(0.6, 0.05);
+    let (raw, smooth) = (
+        scan(&dark, &spec, &pose, 4),
+        scan(&dark, &suppressed, &pose, 4),
+    );
+    assert!(raw.valid_count() > 150_000);
+    assert_eq!(raw.valid_count(), smooth.valid_count());
+    for (a, b) in raw.pixels.iter().zip(&smooth.pixels) {
+        if a.is_valid() {
+            assert!(a.snr < Suppression::BELOW, "SNR {}", a.snr);
+            assert!(a.point.normalize().cross(b.point.normalize()).length() < 1e-6);
+        }
+    }
+    let (mean, before) = mean_std(&z_scores(&raw, |_| 1.0));
+    let (_, after) = mean_std(&z_scores(&smooth, |_| 1.0));
+    eprintln!("dark plane: σ {before:e} → {after:e}, mean {mean:e}");
+    assert!(after * 3.0 < before, "σ {before} → {after}");
+    // a well lit plane: untouched
+    let white = plane(0.6, 1.0);
+    let (raw, smooth) = (
+        scan(&white, &spec, &pose, 4),
+        scan(&white, &suppressed, &pose, 4),
+    );
+    assert!(
+        raw.pixels
+            .iter()
+            .all(|p| !p.is_valid() || p.snr >= Suppression::BELOW)
+    );
+    assert_eq!(bits(&raw), bits(&smooth));
+    // a dark step of 2 cm (about 12σ): the rows beside it keep to their own surface (a mean
+    // over the step would pull them millimetres towards the other)
+    let (mut upper, mut lower) = (
+        quad(
+            Vec3::new(0.0, -2.5, 0.6),
+            Vec3::X * 5.0,
+            Vec3::Y * 2.5,
+            2,
+            2,
+        ),
+        facing_plane(0.62),
+    );
+    upper.material.reflectivity = 0.05;
+    lower.material.reflectivity = 0.05;
+    let step = World::new(&[upper, lower]);
+    let smooth = scan(&step, &suppressed, &pose, 4);
+    let w = smooth.width as usize;
+    let edge = smooth.pixels.iter().position(|p| p.class != 2).unwrap() / w;
+    for row in edge - 3..edge + 3 {
+        let errors: Vec<f64> = smooth.pixels[row * w..(row + 1) * w]
+            .iter()
+            .filter(|p| p.is_valid())
+            .map(|p| (p.point.z - p.clean.z) as f64)
+            .collect();
+        let (mean, _) = mean_std(&errors);
+        assert!(errors.len() > 400 && mean.abs() < 2e-4, "row {row}: {mean}");
+    }
+}
