@@ -441,8 +441,11 @@ impl Wings {
 /// pixel decodes the two surfaces' stripes together (as the [`Wings`] do): where the mirrored
 /// light is strong against the surface's own, as on shiny metal in an inside corner or beside
 /// another part, the point moves along its ray towards where the mirrored column's light plane
-/// meets it, or floats there as a ghost. The bounce seen from the camera's side only: light
-/// that a mirror throws onto a matte surface, and diffuse interreflection, are not modelled.
+/// meets it, or floats there as a ghost. A shiny pixel in the projector's shadow has no light of
+/// its own: the mirrored light alone makes its point, a ghost, where its finest stripes survive
+/// the lobe. The bounce seen from the camera's side only: light that a mirror throws onto a
+/// matte surface, and diffuse interreflection, are not modelled (diffuse light gathers many
+/// stripes, so it lowers the finest pattern's contrast more than it moves its phase).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Interreflection {

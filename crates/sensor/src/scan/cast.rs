@@ -197,7 +197,7 @@ impl<'a> Capture<'a> {
                 };
             }
             if self.projector.is_some() {
-                shade(epipolar, cut, lits, rays);
+                shade(epipolar, cut, lits, rays, self.sensor);
             }
             self.finish_row(&mut line[cols.clone()], lits);
         }
@@ -282,7 +282,8 @@ impl<'a> Capture<'a> {
             for (g, lane) in lanes::<GROUPS>() {
                 if blocked[g][lane] {
                     let (c, r) = block_pixel(col, g, lane);
-                    lits[r * span + c - cols.start] = None;
+                    let lit = &mut lits[r * span + c - cols.start];
+                    *lit = lit.and_then(|lit| lit.shadowed(self.sensor));
                 }
             }
         }
@@ -302,12 +303,14 @@ pub(super) struct Band {
     cut: RowCut,
 }
 
-/// Drops the lit pixels of a cut row whose surface point the projector does not reach.
+/// Puts the lit pixels of a cut row whose surface point the projector does not reach in its
+/// shadow ([`LitPixel::shadowed`]).
 fn shade(
     epipolar: &Epipolar,
     cut: &mut RowCut,
     lits: &mut [Option<LitPixel>],
     rays: &mut Vec<(usize, Ray)>,
+    sensor: &SensorSpec,
 ) {
     rays.clear();
     for (i, lit) in lits.iter().enumerate() {
@@ -322,7 +325,7 @@ fn shade(
     let shadows = epipolar.shadows(cut, rays.iter().map(|&(_, ray)| ray));
     for &(i, ray) in rays.iter() {
         if shadows.block(ray) {
-            lits[i] = None;
+            lits[i] = lits[i].and_then(|lit| lit.shadowed(sensor));
         }
     }
 }

@@ -5,6 +5,7 @@ use glam::Vec3;
 use super::Pixel;
 use super::cast::Capture;
 use crate::noise::{PixelRng, stream};
+use crate::spec::SensorSpec;
 use crate::world::SurfaceHit;
 
 /// A pixel measured up to the projector's visibility: what [`measure`] needs once that is known.
@@ -19,8 +20,10 @@ pub(super) struct LitPixel {
     pub(super) signal: f32,
     /// The pattern's signal-to-noise ratio (0 without the SNR model).
     pub(super) snr: f32,
-    /// The point's linear colour before the camera's noise.
-    pub(super) colour: Vec3,
+    /// The projector's (or the camera's) light at the point, 0 in the projector's shadow.
+    pub(super) light: f32,
+    /// The surface's albedo (linear RGB).
+    pub(super) albedo: Vec3,
     /// The surface's specular share and the width of its lobe, radians.
     pub(super) specular: f32,
     pub(super) lobe: f32,
@@ -28,6 +31,29 @@ pub(super) struct LitPixel {
     /// projector (none for sensors that light from the camera).
     pub(super) shadow: Option<(Vec3, f32)>,
     pub(super) rng: PixelRng,
+}
+
+impl LitPixel {
+    /// The point's linear colour before the camera's noise: its albedo under the light and the
+    /// ambient light.
+    #[inline]
+    pub(super) fn colour(&self, sensor: &SensorSpec) -> Vec3 {
+        self.albedo * (self.light * sensor.colour.exposure + sensor.colour.ambient)
+    }
+
+    /// This pixel with its surface point in the projector's shadow: no light of its own, but a
+    /// shiny surface still mirrors the lit surfaces around it, when `sensor` models that
+    /// (interreflection); `None` when it can have no point.
+    #[inline]
+    pub(super) fn shadowed(self, sensor: &SensorSpec) -> Option<LitPixel> {
+        (sensor.noise.interreflection.enabled && self.specular > 0.0).then_some(LitPixel {
+            signal: 0.0,
+            snr: 0.0,
+            light: 0.0,
+            shadow: None,
+            ..self
+        })
+    }
 }
 
 /// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to the
@@ -114,8 +140,8 @@ pub(super) fn illuminate(
         t: hit.t,
         signal,
         snr,
-        colour: Vec3::from(material.colour)
-            * (light * sensor.colour.exposure + sensor.colour.ambient),
+        light,
+        albedo: Vec3::from(material.colour),
         specular: material.specular,
         lobe: material.lobe,
         shadow,

@@ -60,8 +60,8 @@ static SRGB: std::sync::LazyLock<[u8; SRGB_STEPS]> = std::sync::LazyLock::new(||
     })
 });
 
-/// Measures labelled pixel `px` of a lit surface point (its shadow ray, if any, unblocked):
-/// the noise filter, where it samples (its centre, or a laterally jittered position), whether
+/// Measures labelled pixel `px` of a lit surface point, or of a shiny one in the projector's
+/// shadow: the light it mirrors (interreflection), the noise filter, where it samples (its centre, or a laterally jittered position), whether
 /// that surface lies in the working range, range noise and quantisation.
 pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     let Capture {
@@ -75,10 +75,11 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         t,
         signal,
         snr,
-        colour,
+        light,
         rng,
         ..
     } = *lit;
+    let colour = lit.colour(sensor);
     (px.intensity, px.snr) = (signal, snr);
     // a shiny surface's pixel also receives the light of the surface it mirrors, and decodes
     // the two surfaces' stripes together
@@ -100,7 +101,8 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
         *px = decode(setup, stripes, &sum, at, &own, &coloured, false);
         return;
     }
-    if sensor.filters_out(snr) {
+    // in the projector's shadow, only mirrored light makes a point
+    if light == 0.0 || sensor.filters_out(snr) {
         return;
     }
     // where this pixel actually samples: its centre, or a laterally jittered position on the

@@ -21,6 +21,11 @@ fn steel(lobe: f32) -> Material {
 /// of the camera, `angle` degrees apart: an inside corner facing the camera, or a ridge (its
 /// edge towards the camera) when `ridge`.
 fn corner(angle: f32, material: Material, ridge: bool) -> World {
+    World::new(&walls(angle, material, ridge))
+}
+
+/// The walls of [`corner`], classes 1 and 2.
+fn walls(angle: f32, material: Material, ridge: bool) -> [Target; 2] {
     let half = (0.5 * angle).to_radians();
     let (z, depth, height) = (0.65, 0.12, Vec3::Y * 0.15);
     let (edge, back) = if ridge {
@@ -33,7 +38,7 @@ fn corner(angle: f32, material: Material, ridge: bool) -> World {
         let tris = shapes::rectangle(edge + along, along, height);
         Target::from_triangles(&tris, 1, if side < 0.0 { 1 } else { 2 }, material)
     };
-    World::new(&[wall(-1.0), wall(1.0)])
+    [wall(-1.0), wall(1.0)]
 }
 
 /// The SNR model, interreflection and Zivid's noise filter.
@@ -190,4 +195,66 @@ fn the_reflection_filter_removes_what_mirrored_light_decoded() {
         left[0],
         left[1]
     );
+}
+
+#[test]
+fn shiny_surfaces_in_the_projectors_shadow_mirror_lit_ones() {
+    // the corner, and a post 30 cm before the camera between it and the projector (at +x),
+    // whose shadow falls on the right wall
+    let with_post = |material: Material| {
+        let mut post = quad(
+            Vec3::new(0.07, 0.0, 0.3),
+            Vec3::X * 0.01,
+            Vec3::Y * 0.03,
+            3,
+            3,
+        );
+        post.material = materials::MATTE_GREY;
+        let [left, right] = walls(90.0, material, false);
+        World::new(&[left, right, post])
+    };
+    let pose = Affine3A::IDENTITY;
+    // the shadow: the matte corner's wall pixels without a point
+    let matte = scan(
+        &with_post(materials::MATTE_GREY),
+        &mirroring(true),
+        &pose,
+        11,
+    );
+    let shadow: Vec<bool> = matte
+        .pixels
+        .iter()
+        .map(|p| p.class != 3 && !p.clean.x.is_nan() && !p.is_valid())
+        .collect();
+    let shadowed = shadow.iter().filter(|&&s| s).count();
+    assert!(shadowed > 2_000, "{shadowed}");
+    // mirror-polished steel (a lobe of 0.05 rad blurs the finest stripes away over the bounce,
+    // and the noise filter takes what is left): with interreflection, shadowed pixels decode
+    // the lit wall they mirror
+    let world = with_post(steel(0.01));
+    let (on, off) = on_and_off(&world, &mirroring(true), 11);
+    let lit_in_shadow = |s: &Scan| {
+        s.pixels
+            .iter()
+            .zip(&shadow)
+            .filter(|(p, s)| **s && p.is_valid())
+            .count()
+    };
+    let (with, without) = (lit_in_shadow(&on), lit_in_shadow(&off));
+    eprintln!("{with} of {shadowed} shadowed pixels have a point ({without} without the model)");
+    assert_eq!(without, 0);
+    assert!(with > shadowed / 10, "{with} of {shadowed}");
+    // ghosts: on their own rays, off their wall
+    let mut floating = 0;
+    for (p, _) in on
+        .pixels
+        .iter()
+        .zip(&shadow)
+        .filter(|(p, s)| **s && p.is_valid())
+    {
+        assert!(p.point.normalize().cross(p.clean.normalize()).length() < 1e-5);
+        floating += usize::from(p.point.distance(p.clean) > 0.01);
+    }
+    eprintln!("{floating} float over 1 cm");
+    assert!(floating > with / 2, "{floating} of {with}");
 }
