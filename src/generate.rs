@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use scene::config::{BUILTIN, builtin_table, default_table, in_words};
-use scene::{Dataset, Shard, overlay, parse_value, set_key};
+use scene::config::{BUILTIN, named_table};
+use scene::{Dataset, Shard, parse_value, set_key};
 
 use crate::error::{CliError, CliResult, choice};
 use crate::memory;
@@ -82,30 +82,7 @@ impl GenerateCmd {
     /// Reads the configuration and applies `--set`.
     fn table(&self) -> CliResult<toml::Table> {
         let name = self.config.as_deref().unwrap_or("default");
-        let mut table = match builtin_table(name) {
-            Some(table) => table,
-            None => {
-                let shown = motorgen::shown(name);
-                let text = std::fs::read_to_string(name).map_err(|e| {
-                    let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
-                    CliError::Usage(match e.kind() {
-                        std::io::ErrorKind::NotFound => format!(
-                            "--config {shown}: no such file, and no built-in configuration of \
-                             that name (built-in: {}){}",
-                            names.join(", "),
-                            motorgen::did_you_mean(name, names.iter().copied())
-                        ),
-                        _ => format!("--config {shown}: {e}"),
-                    })
-                })?;
-                let top = toml::from_str(&text).map_err(|e| {
-                    CliError::Usage(format!("--config {shown}: {}", in_words(&e.to_string())))
-                })?;
-                let mut table = default_table();
-                overlay(&mut table, top);
-                table
-            }
-        };
+        let mut table = named_table(name).map_err(|e| CliError::Usage(format!("--config {e}")))?;
         for s in &self.sets {
             let (key, value) = s.split_once('=').ok_or_else(|| {
                 CliError::Usage(format!(

@@ -6,7 +6,7 @@ use clap::Args;
 use rayon::prelude::*;
 use serde::Deserialize;
 
-use motorgen::export::{csv_header, csv_row, write_atomic, write_motor};
+use motorgen::export::{csv_header, csv_row, earlier_output, write_atomic, write_motor};
 use motorgen::params::PARAMS;
 use motorgen::{Detail, Dist, Format, Motor, ParamSpace, build, derive_seed};
 
@@ -131,7 +131,8 @@ impl MeshArgs {
                 "exploded = {exploded} is not allowed: expected a number from 0 to 10"
             )));
         }
-        let earlier = earlier_output(&self.out, many)?;
+        let earlier =
+            earlier_output(&self.out, many).map_err(|e| CliError::Usage(e.to_string()))?;
         if !earlier.is_empty() && !self.replace {
             return Err(CliError::Usage(format!(
                 "output folder {} already holds {}; pass --replace to replace it, or choose \
@@ -183,55 +184,6 @@ impl Plan {
     }
 }
 
-/// What an earlier `motor` (`many` false: the files its `attributes.json` lists, in every mesh
-/// format, `materials.mtl` and `attributes.json`) or `motors` (`attributes.csv` and the
-/// `motor_NNNNNN` folders) wrote in `out`.
-fn earlier_output(out: &Path, many: bool) -> CliResult<Vec<PathBuf>> {
-    let mut found = Vec::new();
-    if many {
-        for entry in std::fs::read_dir(out).into_iter().flatten().flatten() {
-            let name = entry.file_name().to_string_lossy().into_owned();
-            let numbered = name
-                .strip_prefix("motor_")
-                .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
-            if name == "attributes.csv" || (numbered && entry.path().is_dir()) {
-                found.push(entry.path());
-            }
-        }
-        found.sort();
-        return Ok(found);
-    }
-    let json = out.join("attributes.json");
-    let Ok(text) = std::fs::read_to_string(&json) else {
-        return Ok(found);
-    };
-    let doc: serde_json::Value = serde_json::from_str(&text).map_err(|_| {
-        CliError::Usage(format!(
-            "{} is not a motor's: choose another --out",
-            json.display()
-        ))
-    })?;
-    let parts = doc["attributes"]["parts"].as_array().into_iter().flatten();
-    let names = parts
-        .filter_map(|p| p["name"].as_str())
-        .chain(["motor"])
-        .map(String::from);
-    for name in names {
-        for format in Format::ALL {
-            let file = out.join(format!("{name}.{}", format.extension()));
-            if file.is_file() {
-                found.push(file);
-            }
-        }
-    }
-    found.extend(
-        [out.join("materials.mtl"), json]
-            .into_iter()
-            .filter(|f| f.is_file()),
-    );
-    Ok(found)
-}
-
 /// `motorfactory motor`: one motor.
 #[derive(Debug, Args)]
 pub struct MotorCmd {
@@ -248,7 +200,7 @@ impl MotorCmd {
         let base = if self.random || self.mesh.config.is_some() {
             ParamSpace::addon()
         } else {
-            defaults_space()
+            ParamSpace::defaults()
         };
         let plan = self.mesh.plan(base, false)?;
         let motor = plan.motor(plan.seed)?;
@@ -262,17 +214,6 @@ impl MotorCmd {
         );
         Ok(())
     }
-}
-
-/// Every parameter fixed at its default.
-fn defaults_space() -> ParamSpace {
-    let mut space = ParamSpace::addon();
-    for p in PARAMS {
-        space
-            .set(p.key, Dist::Fixed(p.default.value()))
-            .expect("defaults are valid");
-    }
-    space
 }
 
 /// `motorfactory motors`: many motors in parallel.

@@ -124,6 +124,17 @@ impl ParamSpace {
         ParamSpace::default()
     }
 
+    /// Every parameter fixed at its default (the add-on's default motor).
+    pub fn defaults() -> ParamSpace {
+        let mut space = ParamSpace::default();
+        for p in PARAMS {
+            space
+                .set(p.key, Dist::Fixed(p.default.value()))
+                .expect("defaults are valid");
+        }
+        space
+    }
+
     /// Reads a TOML table of `key = distribution` entries.
     ///
     /// # Errors

@@ -8,7 +8,6 @@
 //! - `manifest.jsonl` (`manifest-{i}-of-{n}.jsonl` for shard i of n): one row per finished
 //!   sample, sorted by index when the run ends.
 
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
@@ -17,12 +16,13 @@ use std::sync::{Arc, Mutex};
 use motorgen::Scheme;
 use motorgen::export::write_atomic;
 use rayon::prelude::*;
-use sensor::PointCloud;
+use sensor::formats::CloudFormat;
 use serde::{Deserialize, Serialize};
 
 use crate::claim::Claim;
-use crate::config::{Colouring, Combinations, Config, set_key};
+use crate::config::{Combinations, Config, set_key};
 use crate::error::{Error, Result};
+use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample, make};
 
 /// Which part of the samples a run makes: those with `index % count == part`.
@@ -232,6 +232,11 @@ impl Dataset {
     /// The sensor of the dataset's samples (of the sweeps' first combination), its sampling applied.
     pub fn sensor(&self) -> &sensor::SensorSpec {
         self.base.sensor()
+    }
+
+    /// The resolved configuration, as the dataset's `config.toml` holds it.
+    pub fn resolved(&self) -> &str {
+        &self.resolved
     }
 
     /// The label scheme of the dataset's samples.
@@ -464,53 +469,40 @@ impl Dataset {
         let out = &recipe.config.output;
         let split = sample.split.name();
         let stem = sample.stem();
-        let palette: Vec<[u8; 3]> = out.scheme.classes().iter().map(|c| c.color).collect();
-        let many = sample.views.len() > 1;
-        let mut files = Vec::new();
-        let mut per_view = Vec::new();
-        let mut class_counts = vec![0u64; palette.len()];
-        for (k, view) in sample.views.iter().enumerate() {
-            let view_stem = if many {
-                format!("{stem}_v{k}")
-            } else {
-                stem.clone()
-            };
-            let mut names = Vec::new();
-            let mut put = |name: String, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| {
-                let rel = format!("{split}/{name}");
-                save(&self.out.join(&rel), body)?;
-                names.push(rel);
-                Ok::<_, Error>(())
-            };
-            let cloud = coloured(&view.cloud, out.colour, &palette);
-            for f in &out.formats {
-                put(f.file_name(&view_stem), &|w| f.write(w, &cloud))?;
-            }
-            if let Some(cloud) = &view.scene_cloud {
-                let f = out
-                    .formats
-                    .first()
-                    .copied()
-                    .unwrap_or(sensor::formats::CloudFormat::Ply);
-                put(f.file_name(&format!("{view_stem}_scene")), &|w| {
-                    f.write(w, &coloured(cloud, out.colour, &palette))
-                })?;
-            }
-            if let Some(scan) = &view.scan {
-                for (name, image) in sensor::formats::IMAGES {
-                    put(format!("{view_stem}_{name}"), &|w| image(w, scan))?;
-                }
+        let files = view_files(recipe, sample);
+        let mut class_counts = vec![0u64; out.scheme.classes().len()];
+        for (view, files) in sample.views.iter().zip(&files) {
+            for (rel, file) in files {
+                let path = self.out.join(rel);
+                match *file {
+                    ViewFile::Cloud(f) => {
+                        save(&path, &|w| f.write(w, &recipe.coloured(&view.cloud)))
+                    }
+                    ViewFile::SceneCloud(f) => {
+                        let cloud = view
+                            .scene_cloud
+                            .as_ref()
+                            .expect("a view with a scene cloud");
+                        save(&path, &|w| f.write(w, &recipe.coloured(cloud)))
+                    }
+                    ViewFile::Image(k) => {
+                        let scan = view.scan.as_ref().expect("a view with a scan");
+                        save(&path, &|w| (sensor::formats::IMAGES[k].1)(w, scan))
+                    }
+                }?;
             }
             for &c in &view.cloud.class {
                 if let Some(n) = class_counts.get_mut(c as usize) {
                     *n += 1;
                 }
             }
-            files.extend(names.iter().cloned());
-            per_view.push(names);
         }
+        let names: Vec<Vec<String>> = files
+            .iter()
+            .map(|files| files.iter().map(|(rel, _)| rel.clone()).collect())
+            .collect();
         let json_rel = format!("{split}/{stem}.json");
-        let doc = sample.json(recipe, &per_view);
+        let doc = sample.json(recipe, &names);
         save(&self.out.join(&json_rel), &|w| {
             w.write_all(doc.to_text().as_bytes())
         })?;
@@ -521,10 +513,69 @@ impl Dataset {
             variant: sample.variant.map_or("motor".into(), |v| format!("{v:?}")),
             points: sample.views.iter().map(|v| v.cloud.len()).collect(),
             json: json_rel,
-            files,
+            files: names.concat(),
             class_counts,
         })
     }
+}
+
+/// What one of a view's files holds.
+#[derive(Clone, Copy)]
+enum ViewFile {
+    /// The cropped cloud in a format.
+    Cloud(CloudFormat),
+    /// The whole scene's cloud.
+    SceneCloud(CloudFormat),
+    /// An image of the scan ([`sensor::formats::IMAGES`], by index).
+    Image(usize),
+}
+
+/// The files a dataset writes for each view of `sample`, each with its path relative to the
+/// dataset's folder, in the order its JSON lists them.
+fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> {
+    let out = &recipe.config.output;
+    let (split, stem) = (sample.split.name(), sample.stem());
+    let many = sample.views.len() > 1;
+    sample
+        .views
+        .iter()
+        .enumerate()
+        .map(|(k, view)| {
+            let view_stem = if many {
+                format!("{stem}_v{k}")
+            } else {
+                stem.clone()
+            };
+            let mut files: Vec<(String, ViewFile)> = out
+                .formats
+                .iter()
+                .map(|&f| (f.file_name(&view_stem), ViewFile::Cloud(f)))
+                .collect();
+            if view.scene_cloud.is_some() {
+                let f = out.formats.first().copied().unwrap_or(CloudFormat::Ply);
+                let name = f.file_name(&format!("{view_stem}_scene"));
+                files.push((name, ViewFile::SceneCloud(f)));
+            }
+            if view.scan.is_some() {
+                for (k, (name, _)) in sensor::formats::IMAGES.iter().enumerate() {
+                    files.push((format!("{view_stem}_{name}"), ViewFile::Image(k)));
+                }
+            }
+            files
+                .into_iter()
+                .map(|(name, file)| (format!("{split}/{name}"), file))
+                .collect()
+        })
+        .collect()
+}
+
+/// The JSON a dataset writes for `sample` of `recipe`, the files it lists included.
+pub fn sample_json(recipe: &Recipe, sample: &Sample) -> SampleJson {
+    let names: Vec<Vec<String>> = view_files(recipe, sample)
+        .into_iter()
+        .map(|files| files.into_iter().map(|(rel, _)| rel).collect())
+        .collect();
+    sample.json(recipe, &names)
 }
 
 /// The recipe of combination `c` of `combinations` laid over `table`.
@@ -599,26 +650,6 @@ fn read_all_rows(out: &Path) -> Result<BTreeMap<u64, Row>> {
         }
     }
     Ok(rows)
-}
-
-/// `cloud` with the rgb `colour` asks for: the camera's, or the class colours of `palette`
-/// (grey beyond it).
-fn coloured<'a>(
-    cloud: &'a PointCloud,
-    colour: Colouring,
-    palette: &[[u8; 3]],
-) -> Cow<'a, PointCloud> {
-    match colour {
-        Colouring::Camera => Cow::Borrowed(cloud),
-        Colouring::Class => Cow::Owned(PointCloud {
-            rgb: cloud
-                .class
-                .iter()
-                .map(|&c| palette.get(c as usize).copied().unwrap_or([128; 3]))
-                .collect(),
-            ..cloud.clone()
-        }),
-    }
 }
 
 /// Why `sample` holds no point: the sensor's range against the nearest surface in view.

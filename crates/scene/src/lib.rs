@@ -46,7 +46,7 @@ pub use augment::{Level, Split};
 pub use cell::{Cell, Object, Variation, compose};
 pub use claim::Claim;
 pub use config::{Config, Span, Variant, overlay, parse_value, set_key};
-pub use dataset::{Dataset, Prepared, Row, Shard, Summary};
+pub use dataset::{Dataset, Prepared, Row, Shard, Summary, sample_json};
 pub use error::{Error, Result};
 pub use record::SampleJson;
 pub use sample::{Recipe, Sample, make};

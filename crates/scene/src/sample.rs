@@ -1,6 +1,8 @@
 //! One sample: a motor in a cell, scanned from one or more views, cropped and augmented, all in
 //! memory and a pure function of (configuration, sample index).
 
+use std::borrow::Cow;
+
 use glam::{Affine3A, Mat4, Vec3};
 use motorgen::kernel::Aabb;
 use motorgen::{Motor, ParamSpace, build, derive_seed};
@@ -10,7 +12,7 @@ use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Split, assign};
 use crate::cell::{Cell, Variation, compose};
-use crate::config::{Config, CropConfig, Variant};
+use crate::config::{Colouring, Config, CropConfig, Variant};
 use crate::error::Result;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson};
 use crate::rig::camera_poses;
@@ -108,6 +110,25 @@ impl Recipe {
     /// The sensor, its sampling applied.
     pub fn sensor(&self) -> &SensorSpec {
         &self.sensor
+    }
+
+    /// `cloud` with the rgb `output.colour` asks for: the camera's, or the class colours of the
+    /// label scheme (grey beyond it).
+    pub fn coloured<'a>(&self, cloud: &'a PointCloud) -> Cow<'a, PointCloud> {
+        match self.config.output.colour {
+            Colouring::Camera => Cow::Borrowed(cloud),
+            Colouring::Class => {
+                let classes = self.config.output.scheme.classes();
+                Cow::Owned(PointCloud {
+                    rgb: cloud
+                        .class
+                        .iter()
+                        .map(|&c| classes.get(c as usize).map_or([128; 3], |c| c.color))
+                        .collect(),
+                    ..cloud.clone()
+                })
+            }
+        }
     }
 }
 

@@ -132,6 +132,59 @@ pub fn write_motor(
     Ok(written)
 }
 
+/// What an earlier `motor` (`many` false: the files its `attributes.json` lists, in every mesh
+/// format, `materials.mtl` and `attributes.json`) or `motors` (`attributes.csv` and the
+/// `motor_NNNNNN` folders) wrote in `out`.
+///
+/// # Errors
+///
+/// [`Error::Parse`] when `out` holds an `attributes.json` that is not a motor's.
+pub fn earlier_output(out: &Path, many: bool) -> Result<Vec<PathBuf>> {
+    let mut found = Vec::new();
+    if many {
+        for entry in std::fs::read_dir(out).into_iter().flatten().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let numbered = name
+                .strip_prefix("motor_")
+                .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+            if name == "attributes.csv" || (numbered && entry.path().is_dir()) {
+                found.push(entry.path());
+            }
+        }
+        found.sort();
+        return Ok(found);
+    }
+    let json = out.join("attributes.json");
+    let Ok(text) = std::fs::read_to_string(&json) else {
+        return Ok(found);
+    };
+    let doc: serde_json::Value = serde_json::from_str(&text).map_err(|_| {
+        Error::Parse(format!(
+            "{} is not a motor's: choose another folder",
+            json.display()
+        ))
+    })?;
+    let parts = doc["attributes"]["parts"].as_array().into_iter().flatten();
+    let names = parts
+        .filter_map(|p| p["name"].as_str())
+        .chain(["motor"])
+        .map(String::from);
+    for name in names {
+        for format in Format::ALL {
+            let file = out.join(format!("{name}.{}", format.extension()));
+            if file.is_file() {
+                found.push(file);
+            }
+        }
+    }
+    found.extend(
+        [out.join("materials.mtl"), json]
+            .into_iter()
+            .filter(|f| f.is_file()),
+    );
+    Ok(found)
+}
+
 /// This process's token in temporary file names: 16 hex digits drawn from the operating
 /// system's randomness once per process, so writers on other hosts or in other PID namespaces
 /// (where process ids repeat) never pick the same temporary name.

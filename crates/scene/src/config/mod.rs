@@ -14,7 +14,9 @@ use sensor::{Frame, Noise, Sampling, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
-pub use table::{BUILTIN, builtin_table, default_table, overlay, parse_value, set_key};
+pub use table::{
+    BUILTIN, builtin_table, default_table, named_table, overlay, parse_value, set_key,
+};
 pub use words::in_words;
 
 use crate::error::{Error, Result};

@@ -88,3 +88,34 @@ pub fn builtin_table(name: &str) -> Option<toml::Table> {
     );
     Some(table)
 }
+
+/// The configuration `name` names, as a table to which overrides can still be applied: a
+/// built-in configuration, or else a TOML file laid over the default.
+///
+/// # Errors
+///
+/// [`Error::Config`] naming `name` when it is neither, or when the file
+/// is not valid TOML (in words).
+pub fn named_table(name: &str) -> Result<toml::Table> {
+    if let Some(table) = builtin_table(name) {
+        return Ok(table);
+    }
+    let shown = motorgen::shown(name);
+    let text = std::fs::read_to_string(name).map_err(|e| {
+        let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
+        Error::Config(match e.kind() {
+            std::io::ErrorKind::NotFound => format!(
+                "{shown}: no such file, and no built-in configuration of that name (built-in: \
+                 {}){}",
+                names.join(", "),
+                motorgen::did_you_mean(name, names.iter().copied())
+            ),
+            _ => format!("{shown}: {e}"),
+        })
+    })?;
+    let top = toml::from_str(&text)
+        .map_err(|e| Error::Config(format!("{shown}: {}", super::in_words(&e.to_string()))))?;
+    let mut table = default_table();
+    overlay(&mut table, top);
+    Ok(table)
+}
