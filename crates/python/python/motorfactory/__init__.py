@@ -1,0 +1,22 @@
+"""Synthetic, labelled 3D training data of small electric gear motors, made in-process.
+
+- :func:`motor` builds a parametric gear motor (type A or B) with its parts as closed meshes;
+- :func:`scan` scans meshes with a simulated sensor (Zivid, Kinect, ...);
+- :class:`Generator` makes the samples of a dataset configuration, the values
+  ``motorfactory generate`` writes, by index;
+- :mod:`motorfactory.torch` streams them into PyTorch (``torch`` is optional).
+"""
+
+from ._core import CONFIGS, PRESETS, Generator, Motor, Part, Scan, __version__, motor, scan
+
+__all__ = [
+    "CONFIGS",
+    "PRESETS",
+    "Generator",
+    "Motor",
+    "Part",
+    "Scan",
+    "__version__",
+    "motor",
+    "scan",
+]

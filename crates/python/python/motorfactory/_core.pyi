@@ -1,0 +1,104 @@
+"""Type stubs of the extension module ``motorfactory._core``."""
+
+from os import PathLike
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+PRESETS: List[str]
+CONFIGS: List[str]
+__version__: str
+
+Cloud = Dict[str, npt.NDArray[Any]]
+
+class Part:
+    """One part of a motor: a closed mesh with its labels (motor frame, metres)."""
+
+    name: str
+    kind: str
+    class_id: int
+    instance: int
+    @property
+    def vertices(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def triangles(self) -> npt.NDArray[np.uint32]: ...
+
+class Motor:
+    """A built motor: its parts, parameters and ground truth."""
+
+    @property
+    def parts(self) -> List[Part]: ...
+    @property
+    def attributes(self) -> Dict[str, Any]: ...
+    @property
+    def params(self) -> Dict[str, Any]: ...
+    def save(
+        self,
+        folder: Union[str, PathLike[str]],
+        formats: Sequence[str] = ...,
+        per_part: bool = True,
+        replace: bool = False,
+    ) -> List[str]: ...
+
+def motor(
+    params: Optional[Mapping[str, Any]] = None,
+    seed: int = 0,
+    random: bool = False,
+    detail: str = "normal",
+) -> Motor: ...
+
+class Scan:
+    """A scan: the sensor's organized image, pixel by pixel (rows x columns)."""
+
+    @property
+    def xyz(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def normal(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def depth(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def label(self) -> npt.NDArray[np.uint16]: ...
+    @property
+    def instance(self) -> npt.NDArray[np.uint32]: ...
+    @property
+    def intensity(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def pose(self) -> npt.NDArray[np.float32]: ...
+    def points(self) -> Cloud: ...
+
+Mesh = Union[
+    str,
+    PathLike[str],
+    Tuple[npt.NDArray[np.float32], npt.NDArray[np.uint32], int, int],
+]
+
+def scan(
+    meshes: List[Mesh],
+    sensor: str = "zivid-2plus-m130",
+    eye: Tuple[float, float, float] = (0.0, -0.6, 0.6),
+    target: Tuple[float, float, float] = (0.0, 0.0, 0.0),
+    up: Tuple[float, float, float] = (0.0, 0.0, 1.0),
+    seed: int = 0,
+    sampling: str = "all",
+    material: str = "grey-plastic",
+) -> Scan: ...
+
+class Generator:
+    """Dataset samples made in memory: ``Generator(config)[i]`` is sample ``i``."""
+
+    def __init__(
+        self,
+        config: Union[None, str, PathLike[str], Mapping[str, Any]] = None,
+        seed: Optional[int] = None,
+        overrides: Optional[Mapping[str, Any]] = None,
+        samples: Optional[int] = None,
+    ) -> None: ...
+    def __len__(self) -> int: ...
+    def __getitem__(self, index: int) -> Dict[str, Any]: ...
+    def sample_at(self, index: int) -> Dict[str, Any]: ...
+    def indices(self, split: Optional[str] = None) -> List[int]: ...
+    @property
+    def classes(self) -> List[str]: ...
+    @property
+    def config(self) -> str: ...

@@ -1,0 +1,176 @@
+"""PyTorch datasets of motorfactory samples, made on demand in the DataLoader's workers.
+
+- :class:`MotorDataset`: a map-style dataset of one split of a configuration, optionally with
+  fixed-size blocks of points as the AgiProbot networks take them;
+- :class:`MotorStream`: an iterable dataset that shards the sample indices over DataLoader
+  workers and distributed ranks, endless or for a number of samples;
+- :func:`collate`: batches clouds of different sizes into one, with a batch index per point;
+- :func:`to_pyg`: a sample as a ``torch_geometric.data.Data`` (with PyTorch Geometric).
+
+Every sample is a dict of tensors: ``xyz`` (N x 3 float32), ``rgb`` (N x 3 float32 in 0..1),
+``label`` (N int64), ``instance`` (N int64), ``normal`` (N x 3 float32) and ``index`` (the
+sample's index in the configuration). The points and labels are those ``motorfactory generate``
+writes for that sample (its first view).
+"""
+
+from typing import Any, Callable, Dict, Iterator, List, Mapping, Optional, Union
+
+import numpy as np
+import torch
+from torch.utils.data import Dataset, IterableDataset, get_worker_info
+
+from . import Generator
+
+Sample = Dict[str, Any]
+Config = Union[None, str, Mapping[str, Any]]
+
+
+def _tensors(sample: Mapping[str, Any], index: int) -> Sample:
+    """A generator sample's first view as tensors."""
+    return {
+        "xyz": torch.from_numpy(sample["xyz"]),
+        "rgb": torch.from_numpy(sample["rgb"].astype(np.float32) / 255.0),
+        "label": torch.from_numpy(sample["label"].astype(np.int64)),
+        "instance": torch.from_numpy(sample["instance"].astype(np.int64)),
+        "normal": torch.from_numpy(sample["normal"]),
+        "index": index,
+    }
+
+
+def block(sample: Sample, num_points: int, seed: Any, normalize: bool = False) -> Sample:
+    """``num_points`` of the sample's points drawn with replacement (the same for the same
+    ``seed``, anything ``numpy.random.default_rng`` takes), as the AgiProbot networks take their 2048 or 4096 points; with ``normalize``,
+    centred on their mean and scaled into the unit sphere."""
+    n = sample["xyz"].shape[0]
+    if n == 0:
+        raise ValueError(f"sample {sample['index']} holds no point to draw from")
+    rng = np.random.default_rng(seed)
+    pick = torch.from_numpy(rng.integers(0, n, size=num_points))
+    out = {k: (v[pick] if torch.is_tensor(v) else v) for k, v in sample.items()}
+    if normalize:
+        xyz = out["xyz"] - out["xyz"].mean(dim=0)
+        out["xyz"] = xyz / xyz.norm(dim=1).max().clamp_min(1e-12)
+    return out
+
+
+class MotorDataset(Dataset):
+    """The samples of one split (``train``, ``validation`` or ``test``, as the configuration
+    assigns them) of a configuration, made when asked for.
+
+    ``num_points`` draws a fixed-size block of each sample's points with replacement (the same
+    block every time for the same sample and ``seed``), ``normalize`` scales it into the unit
+    sphere, and ``transform`` is applied to each sample's dict last. ``config``, ``seed`` and
+    ``overrides`` are those of :class:`motorfactory.Generator`.
+    """
+
+    def __init__(
+        self,
+        config: Config = "default",
+        split: Optional[str] = "train",
+        num_points: Optional[int] = None,
+        normalize: bool = False,
+        transform: Optional[Callable[[Sample], Any]] = None,
+        seed: Optional[int] = None,
+        overrides: Optional[Mapping[str, Any]] = None,
+        samples: Optional[int] = None,
+    ) -> None:
+        self.generator = Generator(config, seed=seed, overrides=overrides, samples=samples)
+        self.indices: List[int] = self.generator.indices(split)
+        if num_points is not None and num_points < 1:
+            raise ValueError(f"num_points = {num_points} is not allowed: expected at least 1")
+        self.num_points = num_points
+        self.normalize = normalize
+        self.transform = transform
+        self.seed = 0 if seed is None else seed
+
+    def __len__(self) -> int:
+        return len(self.indices)
+
+    def __getitem__(self, k: int) -> Any:
+        index = self.indices[k]
+        sample = _tensors(self.generator[index], index)
+        if self.num_points is not None:
+            sample = block(sample, self.num_points, (self.seed, index), self.normalize)
+        return self.transform(sample) if self.transform is not None else sample
+
+
+class MotorStream(IterableDataset):
+    """Samples ``start``, ``start + 1``, ... of a configuration (endless without ``count``),
+    shared out over the DataLoader's workers and the distributed ranks: worker ``w`` of ``W`` on
+    rank ``r`` of ``R`` makes the samples whose position is ``r * W + w`` modulo ``R * W``, so
+    every sample is made once and a run is the same whatever the workers. Sample indices may
+    exceed the configuration's ``samples`` (sample i does not depend on how many there are).
+    """
+
+    def __init__(
+        self,
+        config: Config = "default",
+        start: int = 0,
+        count: Optional[int] = None,
+        num_points: Optional[int] = None,
+        normalize: bool = False,
+        transform: Optional[Callable[[Sample], Any]] = None,
+        seed: Optional[int] = None,
+        overrides: Optional[Mapping[str, Any]] = None,
+    ) -> None:
+        self.generator = Generator(config, seed=seed, overrides=overrides)
+        self.start, self.count = start, count
+        self.num_points, self.normalize, self.transform = num_points, normalize, transform
+        self.seed = 0 if seed is None else seed
+
+    def _share(self) -> "tuple[int, int]":
+        """This worker's position among all workers of all ranks, and their number."""
+        info = get_worker_info()
+        worker, workers = (info.id, info.num_workers) if info is not None else (0, 1)
+        dist = torch.distributed
+        if dist.is_available() and dist.is_initialized():
+            rank, ranks = dist.get_rank(), dist.get_world_size()
+        else:
+            rank, ranks = 0, 1
+        return rank * workers + worker, ranks * workers
+
+    def __iter__(self) -> Iterator[Any]:
+        me, everyone = self._share()
+        k = me
+        while self.count is None or k < self.count:
+            index = self.start + k
+            sample = _tensors(self.generator.sample_at(index), index)
+            if self.num_points is not None:
+                sample = block(sample, self.num_points, (self.seed, index), self.normalize)
+            yield self.transform(sample) if self.transform is not None else sample
+            k += everyone
+
+
+def collate(batch: List[Sample]) -> Sample:
+    """Batches samples of any sizes: their points concatenated, with ``batch`` giving each
+    point's sample and ``offsets`` where each sample's points start (PyTorch Geometric's
+    layout); ``index`` is the samples' indices."""
+    sizes = [s["xyz"].shape[0] for s in batch]
+    out = {
+        k: torch.cat([s[k] for s in batch])
+        for k in batch[0]
+        if torch.is_tensor(batch[0][k])
+    }
+    out["batch"] = torch.repeat_interleave(
+        torch.arange(len(batch)), torch.tensor(sizes, dtype=torch.int64)
+    )
+    out["offsets"] = torch.tensor([0] + sizes[:-1], dtype=torch.int64).cumsum(0)
+    out["index"] = torch.tensor([s["index"] for s in batch], dtype=torch.int64)
+    return out
+
+
+def to_pyg(sample: Sample) -> Any:
+    """A sample as ``torch_geometric.data.Data``: ``pos`` the points, ``x`` their colours,
+    ``y`` the labels, ``normal`` and ``instance`` as they are (needs PyTorch Geometric)."""
+    try:
+        from torch_geometric.data import Data
+    except ImportError as e:
+        raise ImportError("to_pyg needs PyTorch Geometric: pip install torch_geometric") from e
+    return Data(
+        pos=sample["xyz"],
+        x=sample["rgb"],
+        y=sample["label"],
+        normal=sample["normal"],
+        instance=sample["instance"],
+        index=sample["index"],
+    )

@@ -1,0 +1,18 @@
+"""Shared fixtures: the command-line binary the package is compared with."""
+
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+
+
+@pytest.fixture(scope="session")
+def cli() -> pathlib.Path:
+    """The `motorfactory` binary (MOTORFACTORY_BIN, else the checkout's release build)."""
+    path = pathlib.Path(os.environ.get("MOTORFACTORY_BIN", ROOT / "target/release/motorfactory"))
+    if not path.is_file():
+        subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
+    return path
