@@ -7,7 +7,7 @@ use clap::Args;
 use glam::Vec3;
 use motorgen::export::write_atomic;
 use sensor::formats::*;
-use sensor::{Frame, SensorSpec, Units, World, look_at, nearest_surface, scan};
+use sensor::{Frame, Units, World, look_at, nearest_surface, scan};
 
 use crate::error::{CliError, CliResult, choice};
 
@@ -68,34 +68,13 @@ fn numbers(flag: &str, text: &str, n: usize) -> CliResult<Vec<f32>> {
     Ok(v)
 }
 
-/// A preset name or a TOML sensor file.
-fn read_sensor(name: &str) -> CliResult<SensorSpec> {
-    if Path::new(name).extension().is_some_and(|e| e == "toml") {
-        let text =
-            std::fs::read_to_string(name).map_err(|e| CliError::Usage(format!("{name}: {e}")))?;
-        toml::from_str(&text).map_err(|e| {
-            CliError::Usage(format!(
-                "{}: {}",
-                motorgen::shown(name),
-                scene::config::in_words(&e.to_string())
-            ))
-        })
-    } else {
-        SensorSpec::preset(name).map_err(|_| {
-            CliError::Usage(format!(
-                "--sensor \"{}\" is not allowed: expected a preset ({}) or a .toml file{}",
-                motorgen::shown(name),
-                sensor::PRESETS.join(", "),
-                motorgen::did_you_mean(name, sensor::PRESETS.iter().copied())
-            ))
-        })
-    }
-}
-
 impl ScanCmd {
     /// Runs the command.
     pub fn run(&self) -> CliResult<()> {
-        let spec = read_sensor(&self.sensor)?;
+        let spec = scene::config::read_sensor(&self.sensor).map_err(|e| match e {
+            scene::Error::Io { .. } => CliError::Usage(e.to_string()),
+            _ => CliError::Usage(format!("--sensor {e}")),
+        })?;
         let sampling: sensor::Sampling = self
             .sampling
             .parse()

@@ -15,7 +15,7 @@ use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 use motorgen::export::{earlier_output, write_motor};
 use motorgen::{Detail, Dist, Format, ParamSpace, Scheme, build};
 use scene::{Dataset, Shard, make, parse_value, sample_json, set_key};
-use sensor::{Material, PointCloud, SensorSpec, Target, World, look_at};
+use sensor::{Material, PointCloud, Target, World, look_at};
 
 /// Runs `f` with the GIL released, its parallel work on this process's own thread pool. A
 /// DataLoader's workers are forked from the process that made samples before, and a forked
@@ -476,30 +476,6 @@ fn targets(mesh: &Bound<'_, PyAny>, material: Material, offset: u32) -> PyResult
     Ok(out)
 }
 
-/// The sensor `name` names: a preset (see `PRESETS`) or a sensor TOML file.
-fn read_sensor(name: &str) -> PyResult<SensorSpec> {
-    if name.ends_with(".toml") {
-        let text = std::fs::read_to_string(name)
-            .map_err(|e| PyOSError::new_err(format!("{name}: {e}")))?;
-        toml::from_str(&text).map_err(|e| {
-            PyValueError::new_err(format!(
-                "{}: {}",
-                motorgen::shown(name),
-                scene::config::in_words(&e.to_string())
-            ))
-        })
-    } else {
-        SensorSpec::preset(name).map_err(|_| {
-            PyValueError::new_err(format!(
-                "sensor \"{}\" is not allowed: expected a preset ({}) or a .toml file{}",
-                motorgen::shown(name),
-                sensor::PRESETS.join(", "),
-                motorgen::did_you_mean(name, sensor::PRESETS.iter().copied())
-            ))
-        })
-    }
-}
-
 /// Scans `meshes` (file paths, or (vertices, triangles, class, instance) tuples, in metres)
 /// with `sensor` (a preset or a sensor TOML file) from a camera at `eye` looking at `target`,
 /// `up` up, as `motorfactory scan` does; `sampling` is `all`, `by2x2` or `by4x4`, `material`
@@ -518,7 +494,10 @@ fn scan(
     sampling: &str,
     material: &str,
 ) -> PyResult<Scan> {
-    let spec = read_sensor(sensor)?;
+    let spec = scene::config::read_sensor(sensor).map_err(|e| match e {
+        scene::Error::Io { .. } => PyOSError::new_err(e.to_string()),
+        _ => PyValueError::new_err(format!("sensor {e}")),
+    })?;
     let sampling: sensor::Sampling = sampling
         .parse()
         .map_err(|e| PyValueError::new_err(format!("{e}")))?;

@@ -278,6 +278,31 @@ impl SensorConfig {
     }
 }
 
+/// The sensor `name` names, as `scan --sensor` takes it: a preset, or a sensor TOML file (a
+/// name ending in `.toml`).
+///
+/// # Errors
+///
+/// [`Error::Config`] for a name that is neither (the message starts with the name, quoted, for
+/// the caller to prefix with how it was given) or a file that is not a sensor (in words);
+/// [`Error::Io`] for a file that cannot be read.
+pub fn read_sensor(name: &str) -> Result<SensorSpec> {
+    let shown = motorgen::shown(name);
+    if name.ends_with(".toml") {
+        let text = std::fs::read_to_string(name).map_err(Error::io(name.as_ref()))?;
+        toml::from_str(&text)
+            .map_err(|e| Error::Config(format!("{shown}: {}", in_words(&e.to_string()))))
+    } else {
+        SensorSpec::preset(name).map_err(|_| {
+            Error::Config(format!(
+                "\"{shown}\" is not allowed: expected a preset ({}) or a .toml file{}",
+                sensor::PRESETS.join(", "),
+                motorgen::did_you_mean(name, sensor::PRESETS.iter().copied())
+            ))
+        })
+    }
+}
+
 /// `[crop]`: the cuboid around the motor, each face's offset from the motor's centre (world
 /// axes), m, drawn per sample.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
