@@ -1,7 +1,6 @@
 //! Indexed triangle meshes and their affine transforms.
 
 use glam::{Affine3A, Vec3};
-use rustc_hash::FxHashMap as HashMap;
 use serde::Serialize;
 
 /// An indexed triangle mesh in metres; triangles wind counter-clockwise seen from outside.
@@ -117,66 +116,6 @@ impl Mesh {
             self.flip();
         }
         self
-    }
-
-    /// Flips away needles: a triangle lower than `min_height` over its longest edge gives that
-    /// edge up to its neighbour's far corner (the two triangles' quad is split by its other
-    /// diagonal). Meshers whose vertices may lie a hair off their neighbours' lines use it.
-    pub(crate) fn flip_needles(&mut self, min_height: f32) {
-        let is_needle = |m: &Mesh, t: &[u32; 3]| {
-            let [a, b, c] = t.map(|v| m.positions[v as usize]);
-            let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
-            (b - a).cross(c - a).length() < min_height * longest
-        };
-        for _ in 0..8 {
-            if !self.triangles.iter().any(|t| is_needle(self, t)) {
-                return;
-            }
-            let mut by_edge: HashMap<(u32, u32), usize> = HashMap::default();
-            for (i, t) in self.triangles.iter().enumerate() {
-                for k in 0..3 {
-                    by_edge.insert((t[k], t[(k + 1) % 3]), i);
-                }
-            }
-            let mut done = vec![false; self.triangles.len()];
-            let mut flipped = false;
-            for i in 0..self.triangles.len() {
-                let t = self.triangles[i];
-                let p = t.map(|v| self.positions[v as usize]);
-                // k: the longest edge from corner k to corner k + 1
-                let k = (0..3)
-                    .max_by(|&x, &y| {
-                        let len = |j: usize| p[j].distance(p[(j + 1) % 3]);
-                        len(x).total_cmp(&len(y))
-                    })
-                    .expect("three edges");
-                let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-                let (pa, pb, pc) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-                let height = (pb - pa).cross(pc - pa).length() / pa.distance(pb);
-                if done[i] || height >= min_height {
-                    continue;
-                }
-                let Some(&j) = by_edge.get(&(b, a)) else {
-                    continue;
-                };
-                if done[j] {
-                    continue;
-                }
-                let u = self.triangles[j];
-                let d = (0..3)
-                    .map(|m| u[m])
-                    .find(|&v| v != a && v != b)
-                    .expect("a triangle has a third corner");
-                self.triangles[i] = [c, a, d];
-                self.triangles[j] = [c, d, b];
-                done[i] = true;
-                done[j] = true;
-                flipped = true;
-            }
-            if !flipped {
-                return;
-            }
-        }
     }
 
     /// Adds a vertex and returns its index.

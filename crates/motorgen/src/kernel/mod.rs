@@ -4,17 +4,19 @@
 pub mod csg;
 mod extrude;
 mod mesh;
-mod region;
+mod prisms;
 mod stack;
 mod sweep;
 mod topology;
+mod wedge;
 
 pub use extrude::{Extrusion, cuboid, extrude};
 pub use mesh::{Aabb, Mesh};
-pub use region::Region;
+pub use prisms::{PlateId, Prisms, Shape};
 pub use stack::{Stretch, stack};
 pub use sweep::{Pocket, Section, sweep, sweep_loop};
 pub use topology::{MeshReport, inspect, shell_ids};
+pub use wedge::{Plane, Slope, Wedge, difference};
 
 use glam::Vec2;
 use serde::{Deserialize, Serialize};

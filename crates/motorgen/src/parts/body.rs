@@ -259,6 +259,29 @@ pub fn collar_and_tower(t: Tess, d: &Dims) -> Mesh {
         .transformed(&Affine3A::from_translation(Vec3::Z * d.top))
 }
 
+/// The boxes (motor frame, cm) that the collar, the brush tower and the side-bolt bosses of
+/// [`collar_and_tower`] fill: what the gearbox's plates keep clear of.
+pub fn collar_and_tower_boxes(d: &Dims) -> Vec<(Vec3, Vec3)> {
+    let top = d.top;
+    let mut boxes = vec![
+        (
+            Vec3::new(-POT_HALF_WIDTH, -POT_RADIUS, top - 0.1),
+            Vec3::new(POT_HALF_WIDTH, POT_RADIUS, top + COLLAR_HEIGHT),
+        ),
+        (
+            Vec3::new(-0.7, -0.7, top),
+            Vec3::new(0.7, 0.7, top + d.tower_height()),
+        ),
+    ];
+    for p in SIDE_BOLTS {
+        boxes.push((
+            (p - BOSS_RADIUS).extend(top + 0.15),
+            (p + BOSS_RADIUS).extend(top + 1.55),
+        ));
+    }
+    boxes
+}
+
 /// The collar and tower with the pot's top at z = 0; `steps` are the tubes' heights.
 fn collar_and_tower_at_origin(t: Tess, steps: [f32; 4]) -> Mesh {
     let outline = |sx: f32, sy: f32| pot_outline_scaled(t, sx, sy);
@@ -285,8 +308,9 @@ fn collar_and_tower_at_origin(t: Tess, steps: [f32; 4]) -> Mesh {
     for (k, (radius, height)) in [0.7, 0.6, 0.5, 0.4].into_iter().zip(steps).enumerate() {
         parts.push(t.ring(Vec2::ZERO, radius, radius - 0.1 / 3.0, 0.0, height));
         if k == 3 {
-            // its cap, 10 µm inside the tube's wall and top so that no faces are coplanar
-            parts.push(t.cylinder(radius - e, height - 0.2, height - e));
+            // its cap, 10 µm inside the tube's wall and top, and its underside 10 µm off the
+            // next tube's top (type B's stand at the same height), so that no faces are coplanar
+            parts.push(t.cylinder(radius - e, height - 0.2 + e, height - e));
         }
     }
     let united = csg::union(&parts);

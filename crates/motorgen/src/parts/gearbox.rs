@@ -7,14 +7,20 @@
 use glam::{Affine3A, Vec2, Vec3};
 
 use super::Dims;
-use super::body::BOSS_RADIUS;
-use super::shapes::{Tess, gear_outline, plane_frame, plate, rect, strip};
-use crate::kernel::{Mesh, Region, Stretch, signed_area2, stack};
+use super::body::{BOSS_RADIUS, collar_and_tower_boxes};
+use super::shapes::{Tess, gear_outline, plane_frame, rect, strip};
+use crate::kernel::{
+    Mesh, Plane, Prisms, Shape, Slope, Stretch, Wedge, difference, signed_area2, stack,
+};
 use crate::model::PartKind;
 use crate::params::{Extension, MotorParams, MotorType};
 
 /// Housing wall thickness (the add-on's EXTENSION_THICKNESS).
 const WALL: f32 = 0.2;
+/// Grid step of the plates' unions (cm): 1 µm.
+const GRID: f32 = 1e-4;
+/// How far the plates keep from the collar, the tower and the side-bolt bosses (cm): 10 µm.
+const CLEAR: f32 = 1e-3;
 /// Distance of the cover bolts outside the housing radius.
 const BOLT_OFFSET: f32 = 0.36;
 
@@ -118,235 +124,221 @@ impl Layout {
         }
     }
 
-    /// The gearbox's share of the gear container: housings, boards and cover-bolt bosses.
+    /// The gearbox's share of the gear container: housings, boards and cover-bolt bosses, one
+    /// union clear of the collar, the tower and the side-bolt bosses (`d`'s
+    /// [`collar_and_tower_boxes`]).
     pub fn container(&self, t: Tess, p: &MotorParams, d: &Dims) -> Mesh {
+        let mut plates = Prisms::new(GRID);
         match p.motor_type {
-            MotorType::A => self.container_a(t, d),
-            MotorType::B => self.container_b(t, d),
+            MotorType::A => self.container_a(&mut plates, t, d),
+            MotorType::B => self.container_b(&mut plates, t, d),
         }
+        self.bolt_bosses(&mut plates, t, d);
+        let inverse = self.to_motor.inverse();
+        for (lo, hi) in collar_and_tower_boxes(d) {
+            let corners = (0..8).map(|k| {
+                let pick = |bit: u32, a: f32, b: f32| if k & bit == 0 { a } else { b };
+                inverse.transform_point3(Vec3::new(
+                    pick(1, lo.x, hi.x),
+                    pick(2, lo.y, hi.y),
+                    pick(4, lo.z, hi.z),
+                ))
+            });
+            let (min, max) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), c| {
+                (a.min(c), b.max(c))
+            });
+            let (min, max) = (min - CLEAR, max + CLEAR);
+            let cut = plates.shape(&rect(min.truncate(), max.truncate()));
+            plates.cut(cut, min.z, max.z);
+        }
+        plates.mesh().transformed(&self.to_motor)
     }
 
     /// Type A's gearbox share of the gear container as the add-on builds it (its `create_up`
     /// without extension and `create_outer_board`), as plates along the gear axis: the lower
     /// housing, a cup with a boss behind, its wall opened where the upper housing overlaps it; the
-    /// upper housing with its inner rings; the cover-bolt bosses; the gear board (a slanted board
-    /// from the tower to the lower housing) and the outer board (a board on the pot's flat, its
-    /// slanted continuation to the tower's top, and the web between them). What lies inside the
-    /// collar or the tower is cut away. Plates that meet overlap by 0.1 mm, so that no two share
-    /// an edge.
-    fn container_a(&self, t: Tess, d: &Dims) -> Mesh {
+    /// upper housing with its inner rings; the gear board (a slanted board from the tower to the
+    /// lower housing) and the outer board (a board on the pot's flat, its slanted continuation
+    /// to the tower's top, and the web between them).
+    fn container_a(&self, p: &mut Prisms, t: Tess, d: &Dims) {
         const LAP: f32 = 0.01;
         let (lower, upper) = (&self.gears[0], &self.gears[1]);
         let (cl, rl, cu, ru) = (lower.centre, lower.radius, upper.centre, upper.radius);
         let l = 1.5 * lower.depth;
         let top = d.top;
         let tower = d.tower_steps()[2];
-        let rect = |u0: f32, v0: f32, u1: f32, v1: f32| {
-            Region::polygon(&rect(Vec2::new(u0, v0), Vec2::new(u1, v1)))
-        };
-        // boards end 0.5 mm inside the housings' outer walls; upper parts reach into the lower
-        // housing's wall
-        let board_cut_lower = t.disc(cl, rl - 0.05);
-        let board_cut_upper = t.disc(cu, ru - 0.05);
-        let inside_lower = t.disc(cl, rl - WALL);
+        let disc = |p: &mut Prisms, c: Vec2, r: f32| p.shape(&t.circle(c, r));
+        let lower_out = disc(p, cl, rl);
+        let lower_in = disc(p, cl, rl - WALL);
+        let upper_out = disc(p, cu, ru);
+        let upper_in = disc(p, cu, ru - WALL);
+        // boards end 0.5 mm inside the housings' outer walls
+        let board_cut_lower = disc(p, cl, rl - 0.05);
+        let board_cut_upper = disc(p, cu, ru - 0.05);
         let (floor, mid) = (-2.0 * l / 3.0, -l / 3.0);
-        let mut plates: Vec<(Region, f32, f32)> = vec![
-            // lower housing: floor, wall, the wall opened by the upper housing, boss behind
-            (t.disc(cl, rl), floor, floor + WALL),
-            (t.annulus(cl, rl, rl - WALL), floor + WALL - LAP, mid + LAP),
-            (
-                t.annulus(cl, rl, rl - WALL)
-                    .difference(&t.disc(cu, ru - WALL)),
-                mid,
-                0.0,
-            ),
-            (t.disc(cl, 0.5), -0.8 * l - 0.5, floor + WALL + LAP),
-            // upper housing: floor with its inner ring, wall, the rings behind, outside the
-            // lower housing's inside
-            (
-                t.annulus(cu, ru, 0.65).difference(&inside_lower),
-                mid,
-                mid + WALL,
-            ),
-            (
-                t.annulus(cu, ru, ru - WALL).difference(&inside_lower),
-                mid + WALL - LAP,
-                0.0 - LAP,
-            ),
-            (
-                t.annulus(cu, 0.8, 0.65).difference(&inside_lower),
-                mid - 1.0,
-                mid + 0.5 * WALL,
-            ),
-            (
-                t.annulus(cu, 1.45, 1.25).difference(&inside_lower),
-                mid - 0.1,
-                mid + 0.5 * WALL,
-            ),
-            // gear board
-            (
-                rect(
-                    0.3,
-                    top + 1.4 - 0.4 * d.lower_pos,
-                    1.2,
-                    top + 1.4 + 0.4 * d.lower_pos,
-                )
-                .difference(&board_cut_lower),
-                -0.85 - l / 3.0,
-                -0.75 - l / 3.0,
-            ),
-            (
-                Region::polygon(&strip(Vec2::new(0.7, top), cl, 0.05)).difference(&board_cut_lower),
-                -1.875 - l / 3.0,
-                0.375 - l / 3.0,
-            ),
-            // the web of the outer board
-            (
-                Region::polygon(&[
-                    Vec2::new(0.0, top),
-                    Vec2::new(0.0, top + tower),
-                    Vec2::new(-1.4, top + 2.4),
-                    Vec2::new(-1.4, top),
-                ])
-                .difference(&board_cut_lower)
-                .difference(&board_cut_upper),
-                -1.05 - l / 3.0,
-                -0.95 - l / 3.0,
-            ),
-        ];
+        // lower housing: floor, wall, the wall opened by the upper housing, boss behind
+        p.plate(&[lower_out], &[], floor, floor + WALL);
+        p.plate(&[lower_out], &[lower_in], floor + WALL - LAP, mid + LAP);
+        p.plate(&[lower_out], &[lower_in, upper_in], mid, 0.0);
+        let boss = disc(p, cl, 0.5);
+        p.plate(&[boss], &[], -0.8 * l - 0.5, floor + WALL + LAP);
+        // upper housing: floor with its inner ring, wall, the rings behind, outside the lower
+        // housing's inside
+        let ring_hole = disc(p, cu, 0.65);
+        p.plate(&[upper_out], &[ring_hole, lower_in], mid, mid + WALL);
+        p.plate(&[upper_out], &[upper_in, lower_in], mid + WALL - LAP, -LAP);
+        let ring = disc(p, cu, 0.8);
+        p.plate(&[ring], &[ring_hole, lower_in], mid - 1.0, mid + 0.5 * WALL);
+        let (ring_out, ring_in) = (disc(p, cu, 1.45), disc(p, cu, 1.25));
+        p.plate(
+            &[ring_out],
+            &[ring_in, lower_in],
+            mid - 0.1,
+            mid + 0.5 * WALL,
+        );
+        // gear board
+        let board = p.shape(&rect(
+            Vec2::new(0.3, top + 1.4 - 0.4 * d.lower_pos),
+            Vec2::new(1.2, top + 1.4 + 0.4 * d.lower_pos),
+        ));
+        p.plate(
+            &[board],
+            &[board_cut_lower],
+            -0.85 - l / 3.0,
+            -0.75 - l / 3.0,
+        );
+        let slant = p.shape(&strip(Vec2::new(0.7, top), cl, 0.05));
+        p.plate(
+            &[slant],
+            &[board_cut_lower],
+            -1.875 - l / 3.0,
+            0.375 - l / 3.0,
+        );
+        // the web of the outer board
+        let web = p.shape(&[
+            Vec2::new(0.0, top),
+            Vec2::new(0.0, top + tower),
+            Vec2::new(-1.4, top + 2.4),
+            Vec2::new(-1.4, top),
+        ]);
+        p.plate(
+            &[web],
+            &[board_cut_lower, board_cut_upper],
+            -1.05 - l / 3.0,
+            -0.95 - l / 3.0,
+        );
         // the outer board on the pot's flat and its slanted part, across the pot's width along
         // the gear axis, cut by the housings where they reach it
         let half_width = 0.45 * l;
-        let outer = rect(-1.5, top + 1.4, -1.3, top + 2.4).union(&Region::polygon(&strip(
+        let flat = p.shape(&rect(
+            Vec2::new(-1.5, top + 1.4),
+            Vec2::new(-1.3, top + 2.4),
+        ));
+        let slope = p.shape(&strip(
             Vec2::new(-1.4, top + 2.4),
             Vec2::new(0.1, top + tower),
             0.1,
-        )));
-        let housing_cuts = [
-            (board_cut_lower.clone(), -5.0 * l / 6.0, l / 6.0),
-            (board_cut_upper.clone(), mid, 1.0),
-        ];
-        plates.extend(pieces(
-            &outer,
+        ));
+        let outer = p.plate(
+            &[flat, slope],
+            &[],
             -0.8 - l / 3.0 - half_width,
             -0.8 - l / 3.0 + half_width,
-            &housing_cuts,
-        ));
-        // cut away: the collar (and the pot below it), the brush tower
-        let axis = -1.0 - l / 3.0;
-        let across = 3.5 - 0.5 * l;
-        let cuts = [
-            (
-                rect(-across, top - 0.1, across, top + 1.5),
-                axis - 0.5 * l,
-                axis + 0.5 * l,
-            ),
-            (
-                rect(-0.71, top, 0.71, top + d.tower_height() + 0.01),
-                axis - 0.71,
-                axis + 0.71,
-            ),
-        ];
-        let mut m = Mesh::default();
-        for (region, w0, w1) in plates {
-            for (piece, p0, p1) in pieces(&region, w0, w1, &cuts) {
-                m.append(&piece.extrude(p0, p1));
-            }
-        }
-        m.append(&self.bolt_bosses(t, -1.23, 0.0));
-        m.transformed(&self.to_motor)
+        );
+        p.cut_plate(outer, board_cut_lower, -5.0 * l / 6.0, l / 6.0);
+        p.cut_plate(outer, board_cut_upper, mid, 1.0);
     }
 
     /// The holes the cover bolts pass through (Ø7 mm).
-    fn bolt_holes(&self, t: Tess) -> Region {
-        self.bolts.iter().fold(t.disc(self.bolts[0], 0.35), |h, b| {
-            h.union(&t.disc(*b, 0.35))
-        })
+    fn bolt_holes(&self, p: &mut Prisms, t: Tess) -> Vec<Shape> {
+        self.bolts
+            .iter()
+            .map(|b| p.shape(&t.circle(*b, 0.35)))
+            .collect()
     }
 
     /// The cover-bolt bosses of the gear container: tubes (Ø8 mm, Ø4 mm hole) from `w0` to
-    /// `w1`, open towards the cover, with a 1 mm deck at the back.
-    fn bolt_bosses(&self, t: Tess, w0: f32, w1: f32) -> Mesh {
-        let mut m = Mesh::default();
+    /// the cover plane, open towards the cover, with a 1 mm deck at the back.
+    fn bolt_bosses(&self, p: &mut Prisms, t: Tess, d: &Dims) {
+        let (w0, w1) = match d.motor_type {
+            MotorType::A => (-1.23, 0.0),
+            MotorType::B => (-1.1, 0.15),
+        };
         for b in &self.bolts {
-            let boss = t.revolve(
-                &[
-                    Vec2::new(0.0, w0),
-                    Vec2::new(BOSS_RADIUS, w0),
-                    Vec2::new(BOSS_RADIUS, w1),
-                    Vec2::new(0.2, w1),
-                    Vec2::new(0.2, w0 + 0.1),
-                    Vec2::new(0.0, w0 + 0.1),
-                ],
-                &[],
+            let (outer, hole) = (
+                p.shape(&t.circle(*b, BOSS_RADIUS)),
+                p.shape(&t.circle(*b, 0.2)),
             );
-            m.append(&boss.transformed(&Affine3A::from_translation(b.extend(0.0))));
+            p.plate(&[outer], &[], w0, w0 + 0.1);
+            p.plate(&[outer], &[hole], w0 + 0.1, w1);
         }
-        m
     }
 
     /// Type B's gearbox share of the gear container as the add-on builds it (its `create_Up1`
     /// and `create_gear_extension`), as plates along the gear axis: the housing (a 1 mm wall on
-    /// a 3 mm floor with a Ø15 mm hole, the boss ring behind), the gear-extension board from
-    /// the eye at `type_b_height_1` past the housing to the eye at `type_b_height_2`, and the
-    /// cover-bolt bosses. Plates that meet overlap, so that no two share an edge.
-    fn container_b(&self, t: Tess, d: &Dims) -> Mesh {
+    /// a 3 mm floor with a Ø15 mm hole, the boss ring behind) and the gear-extension board from
+    /// the eye at `type_b_height_1` past the housing to the eye at `type_b_height_2`.
+    fn container_b(&self, p: &mut Prisms, t: Tess, d: &Dims) {
         let g = &self.gears[0];
         let (c, r) = (g.centre, g.radius);
         let top = d.top;
-        let bolt_holes = self.bolt_holes(t);
+        let holes = self.bolt_holes(p, t);
         let (eye_up, eye_low) = (
             Vec2::new(-2.0 * r + 0.3, top + d.h1 - 0.3),
             Vec2::new(2.1, top + d.h2 - 0.3),
         );
-        let board = Region::polygon(&[
+        let disc = |p: &mut Prisms, c: Vec2, r: f32| p.shape(&t.circle(c, r));
+        let outer = disc(p, c, r);
+        let floor_hole = disc(p, c, 0.75);
+        let wall_in = disc(p, c, r - 0.1);
+        let floor_less: Vec<Shape> = holes.iter().copied().chain([floor_hole]).collect();
+        p.plate(&[outer], &floor_less, -1.35, -1.05);
+        let wall_less: Vec<Shape> = holes.iter().copied().chain([wall_in]).collect();
+        p.plate(&[outer], &wall_less, -1.06, 0.15);
+        let (ring_out, ring_in) = (disc(p, c, 0.9), disc(p, c, 0.5));
+        p.plate(&[ring_out], &[ring_in], -1.6, -1.2);
+        let board = p.shape(&[
             Vec2::new(-2.0 * r, top + d.h1),
             Vec2::new(-2.0 * r, c.y - r + 0.1),
             Vec2::new(1.0, top + 0.8),
             Vec2::new(2.4, top + d.h2),
             Vec2::new(-r + 0.1, c.y + r + 0.8),
-        ])
-        .union(&t.disc(eye_up, 0.6))
-        .union(&t.disc(eye_low, 0.6))
-        .difference(&t.disc(c, r - 0.05))
-        .difference(&t.disc(eye_up, 0.2))
-        .difference(&t.disc(eye_low, 0.2))
-        .difference(&bolt_holes);
-        let plates = [
-            (t.annulus(c, r, 0.75).difference(&bolt_holes), -1.35, -1.05),
-            (
-                t.annulus(c, r, r - 0.1).difference(&bolt_holes),
-                -1.06,
-                0.15,
-            ),
-            (t.annulus(c, 0.9, 0.5), -1.6, -1.2),
-            (board, -0.6, 0.15),
+        ]);
+        let eyes = [disc(p, eye_up, 0.6), disc(p, eye_low, 0.6)];
+        let mut board_less = vec![
+            disc(p, c, r - 0.05),
+            disc(p, eye_up, 0.2),
+            disc(p, eye_low, 0.2),
         ];
-        let mut m = Mesh::default();
-        for (region, w0, w1) in plates {
-            m.append(&region.extrude(w0, w1));
-        }
-        m.append(&self.bolt_bosses(t, -1.1, 0.15));
-        m.transformed(&self.to_motor)
+        board_less.extend(&holes);
+        p.plate(&[board, eyes[0], eyes[1]], &board_less, -0.6, 0.15);
     }
 
     /// The cover, as the add-on builds it for each type.
     pub fn cover(&self, t: Tess, p: &MotorParams) -> Mesh {
-        match p.motor_type {
-            MotorType::A => self.cover_a(t, p.extension()),
-            MotorType::B => self.cover_b(t, p.extension()),
-        }
+        let mut plates = Prisms::new(GRID);
+        let mut m = match p.motor_type {
+            MotorType::A => self.cover_a(&mut plates, t, p.extension()),
+            MotorType::B => {
+                self.cover_b(&mut plates, t, p.extension());
+                Mesh::default()
+            }
+        };
+        m.append(&plates.mesh());
+        m.transformed(&self.to_motor)
     }
 
     /// Type B's cover as the add-on builds it (its `create_Up2`): a ring over the gear with its
     /// inner ring, a triangular board through three bolts, discs round the bolts and, with
     /// extension 1, the mid board out to the side, 7 mm thick, with the thinner part joining
     /// it to the bolts.
-    fn cover_b(&self, t: Tess, extension: Extension) -> Mesh {
+    fn cover_b(&self, p: &mut Prisms, t: Tess, extension: Extension) {
         const THIN: f32 = 0.2;
         const MID: f32 = 0.7;
         let (c, r) = (self.gears[0].centre, self.gears[0].radius);
-        let holes = self.bolt_holes(t);
+        let holes = self.bolt_holes(p, t);
+        let hub = p.shape(&t.circle(c, 0.75));
+        let less: Vec<Shape> = holes.iter().copied().chain([hub]).collect();
         // the add-on's three bolts: the gear's second, the one beside the tower, the gear's first
         let n = self.bolts.len();
         let (b1, b2, b3) = (self.bolts[1], self.bolts[n - 1], self.bolts[0]);
@@ -355,98 +347,103 @@ impl Layout {
             b2 + Vec2::new(BOSS_RADIUS, 0.0),
             b3 - Vec2::new(0.0, BOSS_RADIUS),
         );
-        let mut plates = vec![
-            (t.annulus(c, r, 0.75).difference(&holes), 0.15, 0.15 + MID),
-            (t.annulus(c, 0.9, 0.5), 0.15, 0.15 + MID),
-            (
-                Region::polygon(&[b1, b3, b2])
-                    .difference(&t.disc(c, 0.75))
-                    .difference(&holes),
-                0.15 - 0.01,
-                0.15 + THIN,
-            ),
-        ];
+        let ring = p.shape(&t.circle(c, r));
+        p.plate(&[ring], &less, 0.15, 0.15 + MID);
+        let (inner, inner_hole) = (p.shape(&t.circle(c, 0.9)), p.shape(&t.circle(c, 0.5)));
+        p.plate(&[inner], &[inner_hole], 0.15, 0.15 + MID);
+        let board = p.shape(&[b1, b3, b2]);
+        p.plate(&[board], &less, 0.15 - 0.01, 0.15 + THIN);
         if extension == Extension::Type1 {
             let p0 = b3 + Vec2::new(BOSS_RADIUS, 0.9);
             let p1 = c + Vec2::new(-3.5, -1.3);
             let p2 = c + Vec2::new(-3.5, 1.0);
             let p3 = c + Vec2::new(-r, 1.0);
-            plates.push((
-                Region::polygon(&[p0, p1, p2, p3])
-                    .difference(&t.disc(c, 0.75))
-                    .difference(&holes),
-                0.15 - 0.02,
-                0.15 + MID,
-            ));
-            plates.push((
-                Region::polygon(&[b3, p1, p2, b1])
-                    .difference(&t.disc(c, 0.75))
-                    .difference(&holes),
-                0.15 - 0.03,
-                0.15 + THIN - 0.01,
-            ));
+            let mid = p.shape(&[p0, p1, p2, p3]);
+            p.plate(&[mid], &less, 0.15 - 0.02, 0.15 + MID);
+            let thin = p.shape(&[b3, p1, p2, b1]);
+            p.plate(&[thin], &less, 0.15 - 0.03, 0.15 + THIN - 0.01);
         }
         for b in &self.bolts {
-            plates.push((t.disc(*b, BOSS_RADIUS), 0.2, 0.5));
+            let disc = p.shape(&t.circle(*b, BOSS_RADIUS));
+            p.plate(&[disc], &[], 0.2, 0.5);
         }
-        let mut m = Mesh::default();
-        for (region, w0, w1) in plates {
-            m.append(&region.extrude(w0, w1));
-        }
-        m.transformed(&self.to_motor)
     }
 
     /// Type A's cover as the add-on builds it (its `create_up` with extension): over the lower
     /// gear a disc with an annular groove in its face and a hub, over the upper gear a ring
     /// with two inner rings, thin rings round the bolts, and for the extensions the wedge
-    /// plate between two side boards that deepen towards the eye(s) at its end.
-    fn cover_a(&self, t: Tess, extension: Extension) -> Mesh {
+    /// plate between two side boards that deepen towards the eye(s) at its end. Returns the
+    /// wedges; the plates go into `p`.
+    fn cover_a(&self, p: &mut Prisms, t: Tess, extension: Extension) -> Mesh {
         const LAP: f32 = 0.01;
         let (lower, upper) = (&self.gears[0], &self.gears[1]);
         let (cl, rl, cu, ru) = (lower.centre, lower.radius, upper.centre, upper.radius);
-        let groove = t.annulus(cl, rl - 0.5, rl - 1.2);
-        let mut plates = vec![
-            (t.disc(cl, rl), -0.1, 0.05 + LAP),
-            (t.disc(cl, rl).difference(&groove), 0.05, 0.4),
-            (t.disc(cl, 0.5), 0.15, 1.0),
-            (t.annulus(cu, ru, 0.8), -0.1, 0.4),
-            // (the add-on's own booleans leave the inner ring and the bolt rings solid)
-            (t.disc(cu, 0.8), -0.3, 0.7),
-            (t.annulus(cu, 1.45, 1.25), -0.2, 0.4 + LAP),
-            (t.disc(cu, 1.45), 0.4, 0.7),
-        ];
+        let disc = |p: &mut Prisms, c: Vec2, r: f32| p.shape(&t.circle(c, r));
+        // the plates no higher than the extension's side boards over them
+        let mut under = Vec::new();
+        let lower_disc = disc(p, cl, rl);
+        let (groove_out, groove_in) = (disc(p, cl, rl - 0.5), disc(p, cl, rl - 1.2));
+        under.push(p.plate(&[lower_disc], &[], -0.1, 0.05 + LAP));
+        under.push(p.plate(&[lower_disc], &[groove_out], 0.05, 0.4));
+        under.push(p.plate(&[groove_in], &[], 0.05, 0.4));
+        let hub = disc(p, cl, 0.5);
+        p.plate(&[hub], &[], 0.15, 1.0);
+        let (upper_disc, inner) = (disc(p, cu, ru), disc(p, cu, 0.8));
+        under.push(p.plate(&[upper_disc], &[inner], -0.1, 0.4));
+        // (the add-on's own booleans leave the inner ring and the bolt rings solid)
+        p.plate(&[inner], &[], -0.3, 0.7);
+        let (ring_out, ring_in) = (disc(p, cu, 1.45), disc(p, cu, 1.25));
+        under.push(p.plate(&[ring_out], &[ring_in], -0.2, 0.4));
+        p.plate(&[ring_out], &[], 0.4, 0.7);
         for b in &self.bolts {
-            plates.push((t.disc(*b, BOSS_RADIUS), -0.1, 0.2));
+            let ring = disc(p, *b, BOSS_RADIUS);
+            under.push(p.plate(&[ring], &[], -0.1, 0.2));
         }
         let mut m = Mesh::default();
         if let Some(zone) = ExtensionZone::new(extension, cu, ru) {
-            plates.push((
-                Region::polygon(&zone.bottom_board()).difference(&t.disc(cl, rl - 0.5)),
-                -0.1,
-                0.2,
-            ));
+            let bottom = p.shape(&zone.bottom_board());
+            let bottom_less = disc(p, cl, rl - 0.5);
+            under.push(p.plate(&[bottom], &[bottom_less], -0.1, 0.2));
             let eye_length = if zone.two_eyes { 2.6 } else { 1.6 };
             for (centre, r) in zone.eyes() {
-                plates.push((
-                    t.annulus(centre, r, (r - 0.5).max(0.1)),
-                    -0.1,
-                    eye_length - 0.1,
-                ));
+                let (eye, hole) = (disc(p, centre, r), disc(p, centre, (r - 0.5).max(0.1)));
+                p.plate(&[eye], &[hole], -0.1, eye_length - 0.1);
             }
-            for (outline, depth) in zone.side_boards() {
-                let back: Vec<f32> = depth.iter().map(|d| d - 0.1).collect();
-                m.append(&wedge(&outline, &vec![-0.1; outline.len()], &back));
+            // the sloped boards, shells of their own CLEAR apart from the plates: they give way
+            // to the plates that stand higher over them (the eyes, the rings round the gears'
+            // axes, the hub), the lower plates give way to them
+            let grown = |c: Vec2, r: f32| t.circle_grown(c, r, CLEAR);
+            let mut higher: Vec<Vec<Vec2>> =
+                zone.eyes().iter().map(|&(c, r)| grown(c, r)).collect();
+            let eyes = higher.clone();
+            higher.extend([grown(cu, 1.45), grown(cu, 0.8), grown(cl, 0.5)]);
+            let mut boards = Vec::new();
+            for (outline, slopes) in zone.side_boards() {
+                let board = Wedge::new(&outline, &higher, slopes);
+                boards.extend(board.grown(2.0 * CLEAR));
+                for footprint in board.grown(CLEAR) {
+                    let cut = p.shape(&footprint);
+                    for &plate in &under {
+                        p.cut_plate(plate, cut, -0.1 - CLEAR, 1.4 + CLEAR);
+                    }
+                }
+                m.append(&board.mesh());
             }
-            let (outline, depth) = zone.back_plate();
-            let front: Vec<f32> = depth.iter().map(|d| d - 0.2).collect();
-            let back: Vec<f32> = depth.iter().map(|d| d - 0.1).collect();
-            m.append(&wedge(&outline, &front, &back));
-            plates.push((Region::polygon(&zone.cross_board()), -0.1, 0.95));
+            let (outline, slopes) = zone.back_plate(CLEAR);
+            let back = Wedge::new(&outline, &eyes, slopes);
+            m.append(&back.mesh());
+            // the cross board, clear of the back plate and cut short of the side boards (the
+            // piece between them; its ends beyond them go)
+            let pieces = difference(&zone.cross_board(2.0 * CLEAR), &boards);
+            if let Some(cross) = pieces
+                .iter()
+                .max_by(|a, b| signed_area2(a).abs().total_cmp(&signed_area2(b).abs()))
+            {
+                let cross = p.shape(cross);
+                p.plate(&[cross], &[], -0.1, 0.95);
+            }
         }
-        for (region, w0, w1) in plates {
-            m.append(&region.extrude(w0, w1));
-        }
-        m.transformed(&self.to_motor)
+        m
     }
 
     /// The inner gear of housing `g` as the add-on builds it: a toothed wheel with its pinion
@@ -614,46 +611,6 @@ fn extend(
     }
 }
 
-/// A plate of `region` from `w0` to `w1`, split where `cuts` (a region over a range of w) that
-/// take something from it begin or end, each piece less the cuts over it. Neighbouring pieces
-/// overlap by 0.1 mm.
-fn pieces(
-    region: &Region,
-    w0: f32,
-    w1: f32,
-    cuts: &[(Region, f32, f32)],
-) -> Vec<(Region, f32, f32)> {
-    const LAP: f32 = 0.01;
-    let area = region.area();
-    let cuts: Vec<&(Region, f32, f32)> = cuts
-        .iter()
-        .filter(|c| {
-            c.1 < w1 && c.2 > w0 && region.may_meet(&c.0) && region.difference(&c.0).area() < area
-        })
-        .collect();
-    // cut ends within 1 µm of the plate's ends or of each other count as one
-    let mut edges = vec![w0, w1];
-    edges.extend(
-        cuts.iter()
-            .flat_map(|c| [c.1, c.2])
-            .filter(|w| *w > w0 + 1e-4 && *w < w1 - 1e-4),
-    );
-    edges.sort_by(f32::total_cmp);
-    edges.dedup_by(|a, b| (*a - *b).abs() < 1e-4);
-    edges
-        .windows(2)
-        .map(|span| {
-            let piece = cuts
-                .iter()
-                .filter(|c| c.1 <= span[0] + 1e-4 && c.2 >= span[1] - 1e-4)
-                .fold(region.clone(), |r, c| r.difference(&c.0));
-            let lap = |w: f32| if w == w0 || w == w1 { 0.0 } else { LAP };
-            (piece, span[0] - lap(span[0]), span[1] + lap(span[1]))
-        })
-        .filter(|(piece, _, _)| piece.area() > 0.0)
-        .collect()
-}
-
 /// The add-on's extension zone of a type A cover (its `create_extension_zone`), in the gearbox
 /// plane: the polylines of its two side boards from beside the upper gear down to the eye(s).
 struct ExtensionZone {
@@ -711,15 +668,31 @@ impl ExtensionZone {
         })
     }
 
-    /// The two side boards: outline and each corner's depth along the gear axis.
-    fn side_boards(&self) -> [(Vec<Vec2>, Vec<f32>); 2] {
+    /// The two side boards: each an outline and its two slopes (the board deepens from 5 mm
+    /// at its upper end to 11 mm at its bend and 15 mm at its eye end, its back 1 mm less,
+    /// its front 1 mm behind the cover plane).
+    fn side_boards(&self) -> [(Vec<Vec2>, Vec<Slope>); 2] {
         let [p1, p3, p5, p2, p4, p6, _] = self.p;
         let t = self.across;
-        let depth = vec![0.5, 0.5, 1.1, 1.5, 1.5, 1.1];
-        [
-            (vec![p1, p1 - t, p3 - t, p5 - t, p5, p3], depth.clone()),
-            (vec![p2, p2 + t, p4 + t, p6 + t, p6, p4], depth),
-        ]
+        let board = |a: Vec2, bend: Vec2, end: Vec2, t: Vec2| {
+            let back = |q: Vec2, depth: f32| q.extend(depth - 0.1);
+            (
+                vec![a, a - t, bend - t, end - t, end, bend],
+                halves(bend, t, a)
+                    .into_iter()
+                    .zip([
+                        Plane::through([back(a, 0.5), back(a - t, 0.5), back(bend, 1.1)]),
+                        Plane::through([back(bend, 1.1), back(bend - t, 1.1), back(end, 1.5)]),
+                    ])
+                    .map(|(part, back)| Slope {
+                        part,
+                        front: Plane::flat(-0.1),
+                        back,
+                    })
+                    .collect(),
+            )
+        };
+        [board(p1, p3, p5, t), board(p2, p4, p6, -t)]
     }
 
     /// The bottom board between the side boards (reaching half into them).
@@ -737,23 +710,42 @@ impl ExtensionZone {
         ]
     }
 
-    /// The back plate between the side boards, from p3h and p4 down to the eye end, 1 mm thick
-    /// at the boards' back (the add-on leaves it a bare face): outline and each corner's depth.
-    fn back_plate(&self) -> (Vec<Vec2>, Vec<f32>) {
+    /// The back plate between the side boards (`gap` clear of them), from p3h and p4 down to
+    /// the eye end, 1 mm thick at the boards' back (the add-on leaves it a bare face): its
+    /// outline and its two slopes (the halves either side of its diagonal from p3h).
+    fn back_plate(&self, gap: f32) -> (Vec<Vec2>, Vec<Slope>) {
         let [_, _, p5, _, p4, p6, p3h] = self.p;
-        let t = self.across;
-        // reaching half into the side boards, as the bottom board does
-        (
-            vec![p3h - 0.5 * t, p5 - 0.5 * t, p6 + 0.5 * t, p4 + 0.5 * t],
-            vec![1.1, 1.5, 1.5, 1.1],
-        )
+        let t = self.across * (1.0 + gap / self.across.length());
+        let q = [p3h - t, p5 - t, p6 + t, p4 + t];
+        let back = |k: usize, depth: f32| q[k].extend(depth - 0.1);
+        let planes = [
+            Plane::through([back(0, 1.1), back(1, 1.5), back(2, 1.5)]),
+            Plane::through([back(0, 1.1), back(2, 1.5), back(3, 1.1)]),
+        ];
+        let slopes = halves(q[0], q[2] - q[0], q[1])
+            .into_iter()
+            .zip(planes)
+            .map(|(part, back)| Slope {
+                part,
+                front: back.raised(-0.1),
+                back,
+            })
+            .collect();
+        (q.to_vec(), slopes)
     }
 
     /// The cross board from p3h to p4 across the zone (a bare face in the add-on, here 1 mm
-    /// thick), as deep as the back plate's top.
-    fn cross_board(&self) -> Vec<Vec2> {
-        let [_, _, _, _, p4, _, p3h] = self.p;
-        strip(p3h - self.across, p4, 0.05)
+    /// thick, on the upper side of that face, `gap` off the back plate), as deep as the back
+    /// plate's top, reaching into the side boards (the caller cuts it short of them).
+    fn cross_board(&self, gap: f32) -> Vec<Vec2> {
+        let [_, _, p5, _, p4, _, p3h] = self.p;
+        let (a, b) = (p3h - self.across, p4 + self.across);
+        let mut n = (b - a).normalize().perp();
+        if n.dot(p5 - a) > 0.0 {
+            n = -n;
+        }
+        let (shift, reach) = (n * (0.05 + gap), (b - a).normalize() * 0.3);
+        strip(a + shift - reach, b + shift + reach, 0.05)
     }
 
     /// The eyes: centre and outer radius.
@@ -771,18 +763,21 @@ impl ExtensionZone {
     }
 }
 
-/// A plate whose depth varies: each corner of `outline` from `front` to `back` along w, front
-/// and back made of the same triangles (so they may bend). One closed shell.
-fn wedge(outline: &[Vec2], front: &[f32], back: &[f32]) -> Mesh {
-    // an extrusion from 0 to 1 whose corners then move to their depths (it keeps the corners,
-    // perhaps in reverse order)
-    let mut m = plate(outline.to_vec(), vec![], 0.0, 1.0);
-    for p in &mut m.positions {
-        let k = outline
-            .iter()
-            .position(|q| q.distance(p.truncate()) < 1e-6)
-            .expect("every corner is an outline corner");
-        p.z = if p.z > 0.5 { back[k] } else { front[k] };
+/// The two halves of the plane either side of the line through `at` along `along`: the one
+/// holding `first` first (as large squares).
+fn halves(at: Vec2, along: Vec2, first: Vec2) -> [Vec<Vec2>; 2] {
+    const FAR: f32 = 100.0;
+    let (d, mut n) = (along.normalize(), along.normalize().perp());
+    if (first - at).dot(n) < 0.0 {
+        n = -n;
     }
-    m
+    let half = |n: Vec2| {
+        vec![
+            at - FAR * d,
+            at + FAR * d,
+            at + FAR * d + FAR * n,
+            at - FAR * d + FAR * n,
+        ]
+    };
+    [half(n), half(-n)]
 }

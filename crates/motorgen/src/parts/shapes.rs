@@ -4,7 +4,7 @@ use std::f32::consts::TAU;
 
 use glam::{Affine3A, Mat3A, Vec2, Vec3, Vec3A};
 
-use crate::kernel::{Detail, Extrusion, Mesh, Pocket, Region, Section, circle, extrude, sweep};
+use crate::kernel::{Detail, Extrusion, Mesh, Pocket, Section, circle, extrude, sweep};
 
 /// Tessellation in centimetre units.
 #[derive(Clone, Copy, Debug)]
@@ -19,6 +19,12 @@ impl Tess {
     /// A circle outline.
     pub fn circle(self, c: Vec2, r: f32) -> Vec<Vec2> {
         circle(c, r, self.n(r), 0.0)
+    }
+
+    /// The outline of [`Tess::circle`] of radius `r` grown by `by`: every side `by` further out.
+    pub fn circle_grown(self, c: Vec2, r: f32, by: f32) -> Vec<Vec2> {
+        let n = self.n(r);
+        circle(c, r + by / (std::f32::consts::PI / n as f32).cos(), n, 0.0)
     }
 
     /// A solid of revolution about z from an open (r, z) profile whose ends lie on the axis.
@@ -65,16 +71,6 @@ impl Tess {
     /// A flat ring (annulus) from `z0` to `z1`.
     pub fn ring(self, c: Vec2, r_out: f32, r_in: f32, z0: f32, z1: f32) -> Mesh {
         plate(self.circle(c, r_out), vec![self.circle(c, r_in)], z0, z1)
-    }
-
-    /// A disc as a planar region.
-    pub fn disc(self, c: Vec2, r: f32) -> Region {
-        Region::polygon(&self.circle(c, r))
-    }
-
-    /// An annulus as a planar region.
-    pub fn annulus(self, c: Vec2, r_out: f32, r_in: f32) -> Region {
-        self.disc(c, r_out).difference(&self.disc(c, r_in))
     }
 }
 
