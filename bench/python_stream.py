@@ -1,11 +1,11 @@
 """Samples per second through the Python package against the Rust core, in one run.
 
-For each configuration: the Rust benchmark's samples per second in memory (`cargo bench -p scene
---bench samples`, one sample at a time on all threads), `Generator[i]` called in turn (its
-median time over the Rust median: what the package adds), and a
-`DataLoader(MotorDataset(config), num_workers=2)`'s samples per second. With `--stream N`, the
-peak resident memory (this process and its workers) over N samples streamed through
-`MotorStream` with 2 workers.
+For each configuration, over samples 1..N: the Rust core's time to make each in memory (`cargo
+bench -p scene --bench sample_times`, one sample at a time on all threads) and `Generator[i]`'s,
+in turns, sample by sample (the median of their differences: what the package adds), the Rust
+core's samples per second, and a `DataLoader(MotorDataset(config), num_workers=2)`'s over the
+same samples. With `--stream N`, the peak resident memory (this process and its workers) over N
+samples streamed through `MotorStream` with 2 workers.
 
     python bench/python_stream.py --samples 200 --stream 10000    # in the package's venv
 """
@@ -24,29 +24,41 @@ import motorfactory as mf
 from motorfactory.torch import MotorDataset, MotorStream
 
 
-def rust_seconds(config: str) -> float:
-    """The Rust benchmark's median time per sample, seconds."""
-    out = subprocess.run(
-        ["cargo", "bench", "-q", "-p", "scene", "--bench", "samples", "--", f"sample/{config}$"],
-        check=True, capture_output=True, text=True,
-    ).stdout
-    unit = {"ms": 1e-3, "µs": 1e-6, "s": 1.0}
-    m = re.search(r"time:\s+\[\S+ \S+ (\S+) (ms|µs|s) ", out)
-    if m is None:
-        raise RuntimeError(f"no time in the benchmark's output:\n{out}")
-    return float(m.group(1)) * unit[m.group(2)]
-
-
-def generator_seconds(config: str, n: int) -> float:
-    """`Generator[i]`'s median time per call, seconds."""
+def paired_times(config: str, n: int) -> tuple:
+    """For each of samples 1..n, the Rust core's time and `Generator[i]`'s, in turns (the Rust
+    benchmark as a second process, given one index at a time), seconds."""
+    rust = subprocess.Popen(
+        ["cargo", "bench", "-q", "-p", "scene", "--bench", "sample_times", "--", config, "-"],
+        stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+    )
     gen = mf.Generator(config, samples=n + 1)
     gen[0]
-    times = []
-    for i in range(1, n + 1):
+    rust_times, gen_times = [], []
+
+    def rust_time(i):
+        rust.stdin.write(f"{i}\n")
+        rust.stdin.flush()
+        m = re.fullmatch(r"sample (\d+): (\S+) s\n", rust.stdout.readline())
+        if m is None or int(m.group(1)) != i:
+            raise RuntimeError(f"the Rust benchmark did not time sample {i}")
+        return float(m.group(2))
+
+    def gen_time(i):
         t = time.perf_counter()
         gen[i]
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
+        return time.perf_counter() - t
+
+    for i in range(1, n + 1):
+        # who goes first alternates: the second finds the caches as the first left them
+        if i % 2:
+            rust_times.append(rust_time(i))
+            gen_times.append(gen_time(i))
+        else:
+            gen_times.append(gen_time(i))
+            rust_times.append(rust_time(i))
+    rust.stdin.close()
+    rust.wait()
+    return rust_times, gen_times
 
 
 def loader_rate(config: str, n: int) -> float:
@@ -80,15 +92,17 @@ def main() -> None:
     ap.add_argument("--stream", type=int, default=0, help="samples to stream for peak memory")
     args = ap.parse_args()
     torch.set_num_threads(1)
-    print(f"| config | Rust, in memory (/s) | DataLoader, 2 workers (/s) | ratio | "
-          f"Generator[i] (ms) | Rust (ms) | added (ms) |")
+    print("| config | Rust, in memory (/s) | DataLoader, 2 workers (/s) | ratio | "
+          "Generator[i] (ms, median) | Rust (ms, median) | added (ms, median of the differences) |")
     print("|---|---|---|---|---|---|---|")
     for config in args.configs.split(","):
-        rust = rust_seconds(config)
-        gen = generator_seconds(config, args.samples)
+        rust, gen = paired_times(config, args.samples)
         rate = loader_rate(config, args.samples)
-        print(f"| {config} | {1 / rust:.1f} | {rate:.1f} | {rate * rust:.2f} | "
-              f"{gen * 1e3:.1f} | {rust * 1e3:.1f} | {(gen - rust) * 1e3:+.1f} |", flush=True)
+        rust_rate = len(rust) / sum(rust)
+        added = statistics.median(g - r for g, r in zip(gen, rust))
+        print(f"| {config} | {rust_rate:.1f} | {rate:.1f} | {rate / rust_rate:.2f} | "
+              f"{statistics.median(gen) * 1e3:.1f} | {statistics.median(rust) * 1e3:.1f} | "
+              f"{added * 1e3:+.1f} |", flush=True)
     if args.stream:
         peak_streaming(args.configs.split(",")[0], args.stream)
 

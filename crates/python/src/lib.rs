@@ -1,8 +1,10 @@
 //! The extension module `motorfactory._core` of the Python package: motors, scans and dataset
-//! samples made in-process and handed to Python as numpy arrays (one copy from Rust's memory
-//! into each array), the GIL released while Rust works. Bad input raises `ValueError`, a failed
+//! samples made in-process and handed to Python as numpy arrays (a sample's arrays take over
+//! the Rust memory they were made in; a motor's and a scan's, which Python may read again, are
+//! one copy of it), the GIL released while Rust works. Bad input raises `ValueError`, a failed
 //! read or write `OSError`, with the messages of the command line.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
@@ -107,26 +109,27 @@ fn to_toml(key: &str, value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
     })
 }
 
-/// Row-major N×3 float32 array of `v`.
-fn vectors<'py>(py: Python<'py>, v: &[Vec3]) -> PyResult<Bound<'py, PyAny>> {
-    let flat: Vec<f32> = v.iter().flat_map(|p| p.to_array()).collect();
-    Ok(PyArray1::from_vec(py, flat)
-        .reshape([v.len(), 3])?
-        .into_any())
+/// Row-major N×3 float32 array of `v`, in `v`'s memory (no copy).
+fn vectors<'py>(py: Python<'py>, v: Vec<Vec3>) -> PyResult<Bound<'py, PyAny>> {
+    let n = v.len();
+    let flat: Vec<f32> = bytemuck::allocation::cast_vec(v);
+    Ok(PyArray1::from_vec(py, flat).reshape([n, 3])?.into_any())
 }
 
 /// A cloud's arrays as a dict: `xyz`, `normal` (N×3 float32), `intensity`, `snr` (float32),
 /// `rgb` (N×3 uint8), `label` (uint16), `instance` (uint32), as the `.npz` files hold them.
-fn cloud_dict<'py>(py: Python<'py>, c: &PointCloud) -> PyResult<Bound<'py, PyDict>> {
+/// The arrays take over the cloud's memory.
+fn cloud_dict(py: Python<'_>, c: PointCloud) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("xyz", vectors(py, &c.xyz)?)?;
-    d.set_item("normal", vectors(py, &c.normal)?)?;
-    d.set_item("intensity", PyArray1::from_slice(py, &c.intensity))?;
-    d.set_item("snr", PyArray1::from_slice(py, &c.snr))?;
-    let rgb: Vec<u8> = c.rgb.iter().flatten().copied().collect();
-    d.set_item("rgb", PyArray1::from_vec(py, rgb).reshape([c.len(), 3])?)?;
-    d.set_item("label", PyArray1::from_slice(py, &c.class))?;
-    d.set_item("instance", PyArray1::from_slice(py, &c.instance))?;
+    let n = c.len();
+    d.set_item("xyz", vectors(py, c.xyz)?)?;
+    d.set_item("normal", vectors(py, c.normal)?)?;
+    d.set_item("intensity", PyArray1::from_vec(py, c.intensity))?;
+    d.set_item("snr", PyArray1::from_vec(py, c.snr))?;
+    let rgb: Vec<u8> = bytemuck::allocation::cast_vec(c.rgb);
+    d.set_item("rgb", PyArray1::from_vec(py, rgb).reshape([n, 3])?)?;
+    d.set_item("label", PyArray1::from_vec(py, c.class))?;
+    d.set_item("instance", PyArray1::from_vec(py, c.instance))?;
     Ok(d)
 }
 
@@ -155,7 +158,7 @@ impl Part {
     /// Vertex positions, N×3 float32, metres.
     #[getter]
     fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        vectors(py, &self.vertices)
+        vectors(py, self.vertices.clone())
     }
 
     /// Vertex indices of each triangle, M×3 uint32, counter-clockwise seen from outside.
@@ -405,7 +408,7 @@ impl Scan {
             self.scan
                 .cloud(false, sensor::Frame::Camera, sensor::Units::Metres)
         });
-        cloud_dict(py, &cloud)
+        cloud_dict(py, cloud)
     }
 
     fn __repr__(&self) -> String {
@@ -528,20 +531,29 @@ impl Generator {
         let made = work(py, || {
             let recipe = self.dataset.recipe(index)?;
             let sample = make(&recipe, index)?;
+            let json = sample_json(&recipe, &sample).to_text();
+            // the views' clouds themselves, recoloured only where the configuration asks for
+            // the class palette
             let clouds: Vec<PointCloud> = sample
                 .views
-                .iter()
-                .map(|v| recipe.coloured(&v.cloud).into_owned())
+                .into_iter()
+                .map(|v| {
+                    let recoloured = match recipe.coloured(&v.cloud) {
+                        Cow::Owned(c) => Some(c),
+                        Cow::Borrowed(_) => None,
+                    };
+                    recoloured.unwrap_or(v.cloud)
+                })
                 .collect();
-            let json = sample_json(&recipe, &sample).to_text();
             Ok::<_, scene::Error>((clouds, json))
         });
         let (clouds, text) = made.map_err(scene_error)?;
         let views = PyList::empty(py);
-        for c in &clouds {
+        for c in clouds {
             views.append(cloud_dict(py, c)?)?;
         }
-        let out = cloud_dict(py, &clouds[0])?;
+        // the first view's arrays at the top level too (the same arrays)
+        let out = views.get_item(0)?.cast::<PyDict>()?.copy()?;
         out.set_item("views", views)?;
         out.set_item("json", json(py, &text)?)?;
         Ok(out)
