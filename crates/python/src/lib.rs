@@ -19,6 +19,12 @@ use motorgen::{Detail, Dist, Format, ParamSpace, Scheme, build};
 use scene::{Dataset, Shard, make, parse_value, sample_json, set_key};
 use sensor::{Material, PointCloud, Target, World, look_at};
 
+/// The extension's own allocator: a sample's buffers (tens of MB, made and freed on the thread
+/// pool's threads) are reused from sample to sample, where the host's malloc maps and faults them
+/// in anew each time.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// Runs `f` with the GIL released, its parallel work on this process's own thread pool. A
 /// DataLoader's workers are forked from the process that made samples before, and a forked
 /// child has none of its parent's threads: a pool made before the fork would wait for them

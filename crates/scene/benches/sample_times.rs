@@ -40,7 +40,13 @@ fn main() {
         }
         return;
     }
-    let n: u64 = count.parse().expect("a sample count");
+    let n: u64 = match count.parse() {
+        Ok(n) if n > 0 => n,
+        _ => {
+            eprintln!("sample_times: the count {count:?} is not allowed: expected 1 or more, or -");
+            std::process::exit(2);
+        }
+    };
     let mut times: Vec<f64> = (1..=n).map(time).collect();
     let mean = times.iter().sum::<f64>() / times.len() as f64;
     times.sort_by(f64::total_cmp);
