@@ -1,22 +1,15 @@
 //! The mesh kernel against analytic solids: exact polygon volumes and closed, oriented shells.
 
 use glam::{Affine3A, Vec2, Vec3};
+mod common;
+
+use common::{assert_solid, close};
 use motorgen::kernel::*;
 use std::f64::consts::PI;
 
 /// Volume of a prism over a regular n-gon inscribed in a circle of radius r.
 fn ngon_prism(n: usize, r: f64, h: f64) -> f64 {
     0.5 * n as f64 * (2.0 * PI / n as f64).sin() * r * r * h
-}
-
-fn assert_solid(m: &Mesh, shells: usize) {
-    let rep = inspect(m);
-    assert!(rep.is_valid_solid(), "{rep:?}");
-    assert_eq!(rep.shells, shells, "{rep:?}");
-}
-
-fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * b.abs()
 }
 
 #[test]

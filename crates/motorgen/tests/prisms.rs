@@ -2,22 +2,15 @@
 //! plates, the solid along vertical lines against the plates' own definition.
 
 use glam::{Vec2, Vec3};
+mod common;
+
+use common::{assert_solid, close};
 use motorgen::kernel::*;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Grid step of the tests' unions.
 const STEP: f32 = 1e-4;
-
-fn assert_solid(m: &Mesh, shells: usize) {
-    let rep = inspect(m);
-    assert!(rep.is_valid_solid(), "{rep:?}");
-    assert_eq!(rep.shells, shells, "{rep:?}");
-}
-
-fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * b.abs()
-}
 
 fn square(x0: f32, y0: f32, x1: f32, y1: f32) -> Vec<Vec2> {
     vec![
