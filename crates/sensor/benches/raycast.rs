@@ -124,7 +124,7 @@ fn zivid_frame(c: &mut Criterion) {
     });
     // the same frame with one of the preset's error models off, and with none
     type Off = fn(&mut SensorSpec);
-    let variants: [(&str, Off); 7] = [
+    let variants: [(&str, Off); 8] = [
         ("without_snr", |s| s.noise.snr = Default::default()),
         ("without_correlation", |s| {
             s.noise.correlated = Default::default()
@@ -132,6 +132,9 @@ fn zivid_frame(c: &mut Criterion) {
         ("without_wings", |s| s.noise.wings = Default::default()),
         ("without_interreflection", |s| {
             s.noise.interreflection = Default::default()
+        }),
+        ("without_diffuse_interreflection", |s| {
+            s.noise.interreflection.diffuse_reach = 0.0
         }),
         ("without_specular", |s| {
             s.noise.specular = Default::default()

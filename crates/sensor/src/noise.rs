@@ -109,6 +109,8 @@ pub mod stream {
     pub const CORRELATED: u64 = 16;
     /// The camera's calibration error (drawn once, from the pixel index `u64::MAX`).
     pub const CALIBRATION: u64 = 18;
+    /// Diffuse interreflection: the turn of a cell's spiral of samples.
+    pub const BOUNCE: u64 = 20;
 }
 
 /// All noise models of a sensor. Each is off at its default.
@@ -433,24 +435,38 @@ impl Wings {
     }
 }
 
-/// Interreflection: a shiny surface mirrors the surfaces around it, and with them the stripes
-/// the projector lays on them. A pixel that sees a surface of `specular` share > 0 also receives,
-/// along its ray's mirror direction, the light of the surface found there when the projector
-/// lights it: that surface's diffuse signal × `specular`, its stripes blurred by the lobe (σ
-/// 2·lobe radians about the mirror direction, over the distance between the two surfaces). The
-/// pixel decodes the two surfaces' stripes together (as the [`Wings`] do): where the mirrored
-/// light is strong against the surface's own, as on shiny metal in an inside corner or beside
-/// another part, the point moves along its ray towards where the mirrored column's light plane
-/// meets it, or floats there as a ghost. A shiny pixel in the projector's shadow has no light of
-/// its own: the mirrored light alone makes its point, a ghost, where its finest stripes survive
-/// the lobe. The bounce seen from the camera's side only: light that a mirror throws onto a
-/// matte surface, and diffuse interreflection, are not modelled (diffuse light gathers many
-/// stripes, so it lowers the finest pattern's contrast more than it moves its phase).
+/// Interreflection: a surface receives the projector's light by way of the surfaces around it,
+/// and with it their stripes.
+///
+/// - The mirror bounce (`enabled`): a pixel that sees a surface of `specular` share > 0 also
+///   receives, along its ray's mirror direction, the light of the surface found there when the
+///   projector lights it: that surface's diffuse signal × `specular`, its stripes blurred by the
+///   lobe (σ 2·lobe radians about the mirror direction, over the distance between the two
+///   surfaces). A shiny pixel in the projector's shadow has no light of its own: the mirrored
+///   light alone makes its point, a ghost, where its finest stripes survive the lobe.
+/// - The diffuse bounce (`diffuse_reach` > 0): every lit surface sends its light to the surfaces
+///   facing it, as a Lambertian emitter: a pixel receives its own surface's reflectivity ×
+///   Σ signal·cos·cos·area / (π r²) over the lit surfaces within the reach, each patch's stripes
+///   blurred over its width. The camera's own image, binned to at most 32k cells, stands for
+///   those surfaces (32 samples per cell on a spiral, in rings from half a cell to the reach;
+///   a pixel takes the blend of the cells round it that see its surface): surfaces the camera
+///   does not see send nothing, and what lies between two surfaces is not tested, which holds
+///   for the concave places where the light is strong (inside corners, a part on the table, a
+///   jaw against the motor). Pixels whose indirect light is under 0.1 % of their own are left
+///   as they were, so a convex scene changes nothing.
+///
+/// The pixel decodes its own and the indirect stripes together (as the [`Wings`] do): where the
+/// indirect light is strong against the surface's own, as on shiny metal in an inside corner
+/// or on a bright surface beside another, the point moves along its ray towards where the
+/// indirect light's column plane meets it, or floats there as a ghost. Light that a mirror
+/// throws onto a matte surface, and bounces beyond the second surface, are not modelled.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Interreflection {
     /// Whether shiny surfaces mirror their surroundings' stripes.
     pub enabled: bool,
+    /// How far, m, the diffuse bounce gathers light from (0: no diffuse bounce).
+    pub diffuse_reach: f32,
 }
 
 /// A per-scan systematic error: range × (1 + N(0, `scale_sigma`)) + N(0, `offset_sigma`).

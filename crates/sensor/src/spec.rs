@@ -71,6 +71,12 @@ impl Frustum {
         q.dot(self.x_axis) / q.dot(self.z_axis)
     }
 
+    /// The distance of camera-frame point `p` from the projector along its axis.
+    #[inline]
+    pub fn depth(&self, p: Vec3) -> f32 {
+        (p - self.centre).dot(self.z_axis)
+    }
+
     /// The tangent of half the projector's horizontal field.
     pub fn half_width(&self) -> f32 {
         self.tan_x
@@ -658,7 +664,10 @@ fn zivid_noise() -> Noise {
             psf_px: 1.5,
             stripes: 64.0,
         },
-        interreflection: Interreflection { enabled: true },
+        interreflection: Interreflection {
+            enabled: true,
+            diffuse_reach: 0.05,
+        },
         ..Noise::default()
     }
 }
@@ -769,8 +778,9 @@ impl SensorSpec {
     ///   (0.10 mm); the correlation along the stripes (half the variance over 4 pixels), the
     ///   lens's blur (σ 1.5 px, 64 stripes across the projector's field), the three unwrapping
     ///   steps (1, 8 and 64 periods across the field) and the reflection filter's tolerance (a
-    ///   quarter of a period) are assumed; interreflection follows each material's specular share
-    ///   and lobe.
+    ///   quarter of a period) are assumed; the mirror bounce follows each material's specular
+    ///   share and lobe, the diffuse bounce each material's reflectivity, gathered within 5 cm
+    ///   (assumed: the places it matters, inside corners and parts on the table, lie within it).
     /// - `blensor-tof`: Blensor's `tof` scanner as the MotorFactory datasets used it: 1280×960,
     ///   43.6°×34.6°, Gaussian range noise (0.6 mm, the middle of SynMotor's 0.2-1.2 mm).
     /// - `kinect-v1`: Blensor's `kinect` parameters: 640×480, 55.64°×43.18°, baseline 0.075 m,
@@ -1135,6 +1145,16 @@ impl SensorSpec {
                 value: "true".into(),
                 allowed: "false for a sensor without a projector (the mirrored light is its \
                           stripes)"
+                    .into(),
+            });
+        }
+        let reach = self.noise.interreflection.diffuse_reach;
+        if !(0.0..=1.0).contains(&reach) || (reach > 0.0 && self.projector().is_none()) {
+            return Err(Error::Invalid {
+                key: "noise.interreflection.diffuse_reach".into(),
+                value: reach.to_string(),
+                allowed: "0 to 1 m, and 0 for a sensor without a projector (the diffuse light \
+                          carries its stripes)"
                     .into(),
             });
         }

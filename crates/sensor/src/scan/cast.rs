@@ -8,6 +8,7 @@ use glam::{Affine3A, DVec3, Mat3A, Vec3};
 
 use super::Pixel;
 use super::decode::Stripes;
+use super::diffuse::Diffuse;
 use super::light::{LitPixel, acos, illuminate};
 use super::measure::measure;
 use super::region::{Region, Window, row_columns};
@@ -45,6 +46,9 @@ pub(super) struct Capture<'a> {
     pub(super) lattice: u64,
     /// The projector's stripes, for sensors that have one.
     pub(super) stripes: Option<Stripes>,
+    /// The light each pixel's surface receives from the lit surfaces around it, with the
+    /// diffuse bounce.
+    pub(super) diffuse: Option<Diffuse>,
     /// The pixels cast: whole blocks over the window's columns, and the window's rows.
     pub(super) cols: Range<usize>,
     pub(super) rows: Range<usize>,
@@ -110,6 +114,7 @@ impl<'a> Capture<'a> {
             focal_baseline: sensor.focal_baseline(),
             lattice: Correlated::key(seed),
             stripes: projector.map(|(frustum, _)| Stripes::new(sensor, frustum)),
+            diffuse: None,
             cols,
             rows: window.rows.clone(),
             path,

@@ -75,17 +75,24 @@ impl Light {
         }
     }
 
+    /// This light plus `other` × `weight`, its finest, middle and coarsest patterns' modulation
+    /// × `contrast`.
+    #[inline]
+    pub(super) fn add_blurred(&mut self, other: &Light, weight: f32, contrast: [f32; 3]) {
+        self.amplitude += weight * other.amplitude;
+        for ((mine, theirs), c) in self.phasor.iter_mut().zip(&other.phasor).zip(contrast) {
+            mine[0] += weight * c * theirs[0];
+            mine[1] += weight * c * theirs[1];
+        }
+        self.coarse += weight * contrast[2] * other.coarse;
+        self.column += weight * contrast[2] * other.column;
+        self.variance += weight * other.variance;
+    }
+
     /// This light plus `other` × `weight`.
     #[inline]
     pub(super) fn add(&mut self, other: &Light, weight: f32) {
-        self.amplitude += weight * other.amplitude;
-        for (mine, theirs) in self.phasor.iter_mut().zip(&other.phasor) {
-            mine[0] += weight * theirs[0];
-            mine[1] += weight * theirs[1];
-        }
-        self.coarse += weight * other.coarse;
-        self.column += weight * other.column;
-        self.variance += weight * other.variance;
+        self.add_blurred(other, weight, [1.0; 3]);
     }
 }
 

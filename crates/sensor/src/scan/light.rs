@@ -22,7 +22,8 @@ pub(super) struct LitPixel {
     pub(super) snr: f32,
     /// The projector's (or the camera's) light at the point, 0 in the projector's shadow.
     pub(super) light: f32,
-    /// The surface's albedo (linear RGB).
+    /// The surface's diffuse reflectivity and its albedo (linear RGB).
+    pub(super) reflectivity: f32,
     pub(super) albedo: Vec3,
     /// The surface's specular share and the width of its lobe, radians.
     pub(super) specular: f32,
@@ -141,6 +142,7 @@ pub(super) fn illuminate(
         signal,
         snr,
         light,
+        reflectivity: material.reflectivity,
         albedo: Vec3::from(material.colour),
         specular: material.specular,
         lobe: material.lobe,

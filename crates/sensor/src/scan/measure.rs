@@ -9,6 +9,7 @@ use rayon::prelude::*;
 
 use super::cast::Capture;
 use super::decode::{Light, decode};
+use super::diffuse::FAINT;
 use super::light::LitPixel;
 use super::mirror::mirrored;
 use super::{Pixel, Scan};
@@ -61,8 +62,9 @@ static SRGB: std::sync::LazyLock<[u8; SRGB_STEPS]> = std::sync::LazyLock::new(||
 });
 
 /// Measures labelled pixel `px` of a lit surface point, or of a shiny one in the projector's
-/// shadow: the light it mirrors (interreflection), the noise filter, where it samples (its centre, or a laterally jittered position), whether
-/// that surface lies in the working range, range noise and quantisation.
+/// shadow: the light other surfaces send it (interreflection: mirrored, diffuse), the noise
+/// filter, where it samples (its centre, or a laterally jittered position), whether that
+/// surface lies in the working range, range noise and quantisation.
 pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     let Capture {
         sensor, pinhole, ..
@@ -81,25 +83,36 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     } = *lit;
     let colour = lit.colour(sensor);
     (px.intensity, px.snr) = (signal, snr);
-    // a shiny surface's pixel also receives the light of the surface it mirrors, and decodes
-    // the two surfaces' stripes together
-    if let Some(stripes) = &setup.stripes
-        && noise.interreflection.enabled
-        && lit.specular > 0.0
-        && let Some(mirrored) = mirrored(setup, stripes, lit, px.normal)
-    {
-        let column = stripes.frustum.column(px.clean);
-        let contrast = [stripes.smooth, 1.0, 1.0];
-        let mut sum = Light::new(signal, snr, column, contrast, stripes, &noise.snr);
-        sum.add(&mirrored, 1.0);
-        let own = *px;
-        let coloured = Pixel {
-            rgb: srgb(colour, sensor.colour.noise, rng),
-            ..own
-        };
-        let at = [col as usize, row as usize];
-        *px = decode(setup, stripes, &sum, at, &own, &coloured, false);
-        return;
+    // the light of other surfaces: the one a shiny surface mirrors, and the diffuse light of
+    // those around it; the pixel decodes them and its own stripes together
+    if let Some(stripes) = &setup.stripes {
+        let mirrored = (noise.interreflection.enabled && lit.specular > 0.0)
+            .then(|| mirrored(setup, stripes, lit, px.normal))
+            .flatten();
+        let diffuse = setup
+            .diffuse
+            .as_ref()
+            .and_then(|d| d.at(lit.pixel, px.clean, px.normal))
+            .filter(|d| d.amplitude * lit.reflectivity > FAINT * signal.max(0.0));
+        if mirrored.is_some() || (light > 0.0 && diffuse.is_some()) {
+            let column = stripes.frustum.column(px.clean);
+            let contrast = [stripes.smooth, 1.0, 1.0];
+            let mut sum = Light::new(signal, snr, column, contrast, stripes, &noise.snr);
+            if let Some(mirrored) = &mirrored {
+                sum.add(mirrored, 1.0);
+            }
+            if let Some(diffuse) = &diffuse {
+                sum.add(diffuse, lit.reflectivity);
+            }
+            let own = *px;
+            let coloured = Pixel {
+                rgb: srgb(colour, sensor.colour.noise, rng),
+                ..own
+            };
+            let at = [col as usize, row as usize];
+            *px = decode(setup, stripes, &sum, at, &own, &coloured, false);
+            return;
+        }
     }
     // in the projector's shadow, only mirrored light makes a point
     if light == 0.0 || sensor.filters_out(snr) {

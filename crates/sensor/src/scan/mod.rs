@@ -5,12 +5,14 @@
 //! along one of two paths (rows cut in their epipolar planes, or blocks of rays cast as packets
 //! through the BVH); `light` labels a pixel and decides its signal and losses; `measure` turns a
 //! lit pixel into a point with noise and makes the neighbour effects (mixed pixels, the Kinect
-//! window); `mirror` finds the light a shiny surface mirrors into a pixel, `wings` the light
-//! of a pixel's neighbours near edges, and `decode` decodes a pixel's stripes from such mixed
-//! light; `filters` applies Zivid's point-cloud filters.
+//! window); `mirror` finds the light a shiny surface mirrors into a pixel, `diffuse` the light
+//! the surfaces around it send it, `wings` the light of a pixel's neighbours near edges, and
+//! `decode` decodes a pixel's stripes from such mixed light; `filters` applies Zivid's
+//! point-cloud filters.
 
 mod cast;
 mod decode;
+mod diffuse;
 mod filters;
 mod light;
 mod measure;
@@ -29,6 +31,7 @@ use crate::world::World;
 #[cfg(test)]
 pub(crate) use cast::gap;
 use cast::{BLOCK, Band, Capture};
+use diffuse::Diffuse;
 use measure::{mixed_pixels, window_filter};
 pub use region::{Region, Window};
 
@@ -208,7 +211,12 @@ fn scan_pixels(
     let window = region
         .and_then(|reg| reg.pixel_window(k, pose))
         .unwrap_or_else(|| Window::full(k));
-    let capture = Capture::new(world, sensor, pose, seed, region, &window);
+    let mut capture = Capture::new(world, sensor, pose, seed, region, &window);
+    if sensor.noise.interreflection.diffuse_reach > 0.0 {
+        capture.diffuse = capture
+            .stripes
+            .map(|stripes| Diffuse::new(world, sensor, pose, seed, region, &stripes));
+    }
     pixels
         .par_chunks_mut(BLOCK * width)
         .enumerate()

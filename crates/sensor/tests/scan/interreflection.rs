@@ -44,7 +44,10 @@ fn walls(angle: f32, material: Material, ridge: bool) -> [Target; 2] {
 /// The SNR model, interreflection and Zivid's noise filter.
 fn mirroring(enabled: bool) -> SensorSpec {
     let mut spec = structured(Noise {
-        interreflection: Interreflection { enabled },
+        interreflection: Interreflection {
+            enabled,
+            diffuse_reach: 0.0,
+        },
         ..snr_noise()
     });
     spec.processing.filters.noise = SensorSpec::preset("zivid-2plus-m60")
@@ -257,4 +260,104 @@ fn shiny_surfaces_in_the_projectors_shadow_mirror_lit_ones() {
     }
     eprintln!("{floating} float over 1 cm");
     assert!(floating > with / 2, "{floating} of {with}");
+}
+
+/// The SNR model, Zivid's noise filter and the diffuse bounce within `reach` metres.
+fn diffusing(reach: f32) -> SensorSpec {
+    let mut spec = mirroring(false);
+    spec.noise.interreflection.diffuse_reach = reach;
+    spec
+}
+
+/// Matte walls of reflectivity `reflectivity`.
+fn matte(reflectivity: f32) -> Material {
+    Material {
+        reflectivity,
+        ..materials::MATTE_GREY
+    }
+}
+
+/// The white (`reflectivity` 0.8) or black (0.12) matte inside corner of `angle` degrees,
+/// scanned with the diffuse bounce and without it.
+fn diffuse_corner(reflectivity: f32, angle: f32, ridge: bool) -> (Scan, Scan) {
+    let world = corner(angle, matte(reflectivity), ridge);
+    let pose = Affine3A::IDENTITY;
+    (
+        scan(&world, &diffusing(0.05), &pose, 3),
+        scan(&world, &diffusing(0.0), &pose, 3),
+    )
+}
+
+/// How far the points of `on` moved from those of `off` along their rays (m, positive away
+/// from the camera), of the pixels with a point in both whose surface lies `from` to `to`
+/// metres from the corner's edge (the line x = 0, z = 0.65), sorted.
+fn moved_near_edge(on: &Scan, off: &Scan, from: f32, to: f32) -> Vec<f32> {
+    let mut d: Vec<f32> = on
+        .pixels
+        .iter()
+        .zip(&off.pixels)
+        .filter(|(a, b)| a.is_valid() && b.is_valid())
+        .filter(|(_, b)| (from..to).contains(&b.clean.x.hypot(b.clean.z - 0.65)))
+        .map(|(a, b)| a.point.length() - b.point.length())
+        .collect();
+    d.sort_by(f32::total_cmp);
+    d
+}
+
+/// The share of `d` over `by` in size.
+fn share_over(d: &[f32], by: f32) -> f32 {
+    d.iter().filter(|x| x.abs() > by).count() as f32 / d.len() as f32
+}
+
+#[test]
+fn bright_inside_corners_bend_their_points_near_the_edge() {
+    let (on, off) = diffuse_corner(0.8, 90.0, false);
+    let bands = [(0.0, 0.002), (0.005, 0.01), (0.01, 0.02), (0.06, 1.0)];
+    let [edge, near, nearby, far] = bands.map(|(from, to)| moved_near_edge(&on, &off, from, to));
+    for (band, d) in bands.iter().zip([&edge, &near, &nearby, &far]) {
+        let n = d.len();
+        eprintln!(
+            "{band:?} m from the edge: {n} points, 10th / 50th / 90th percentile {:.3} / {:.3} / {:.3} mm, {:.0} % over 0.1 mm, {:.0} % over 1 mm",
+            1e3 * d[n / 10],
+            1e3 * d[n / 2],
+            1e3 * d[9 * n / 10],
+            100.0 * share_over(d, 1e-4),
+            100.0 * share_over(d, 1e-3)
+        );
+        assert!(n > 1000, "{band:?}: {n}");
+    }
+    // within a centimetre of the edge most points move by over 0.1 mm (the SNR model's
+    // precision here), from 1 to 2 cm a few, none by 1 mm; beyond the reach (5 cm, and a
+    // cell) none at all
+    assert!(share_over(&edge, 1e-4) > 0.5);
+    assert!(share_over(&near, 1e-4) > 0.5);
+    assert!(share_over(&nearby, 1e-4) < 0.25);
+    assert_eq!(share_over(&nearby, 1e-3), 0.0);
+    assert_eq!(share_over(&far, 0.0), 0.0);
+    // each on its own pixel's ray, and no point lost
+    for p in on.pixels.iter().filter(|p| p.is_valid()) {
+        assert!(p.point.normalize().cross(p.clean.normalize()).length() < 1e-5);
+    }
+    assert_eq!(on.valid_count(), off.valid_count());
+}
+
+#[test]
+fn the_diffuse_light_follows_the_walls_reflectivity() {
+    let near_edge = |reflectivity: f32| {
+        let (on, off) = diffuse_corner(reflectivity, 90.0, false);
+        let d = moved_near_edge(&on, &off, 0.0, 0.005);
+        d.iter().map(|x| x.abs()).sum::<f32>() / d.len() as f32
+    };
+    let (white, black) = (near_edge(0.8), near_edge(0.12));
+    eprintln!("mean displacement within 5 mm of the edge: white {white:e} m, black {black:e} m");
+    assert!(white > 4.0 * black, "white {white}, black {black}");
+}
+
+#[test]
+fn matte_ridges_see_no_diffuse_light() {
+    for angle in [60.0, 90.0, 120.0] {
+        let (on, off) = diffuse_corner(0.8, angle, true);
+        assert!(on.valid_count() > 20_000);
+        assert_eq!(bits(&on), bits(&off), "{angle}°");
+    }
 }
