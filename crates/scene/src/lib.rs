@@ -10,6 +10,7 @@
 //!   [`Dataset::prepare`] (which claims the folder, [`Claim`]) and [`Dataset::run`] to write it.
 //! - [`make`]: one [`Sample`] in memory: the motor, the [`Cell`] it lies in, and per view the
 //!   scan's cropped [`sensor::PointCloud`] with the pose and ground truth.
+//! - [`coverage`]: how much of a motor's surface a set of views observes.
 //!
 //! # Example
 //!
@@ -34,6 +35,7 @@ pub mod augment;
 pub mod cell;
 mod claim;
 pub mod config;
+pub mod coverage;
 pub mod dataset;
 mod error;
 mod fixture;
