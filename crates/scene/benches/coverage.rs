@@ -7,25 +7,17 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
 use scene::Object;
 use scene::coverage::{Rule, Surface, observe};
-use sensor::{Intrinsics, SensorSpec, World, look_at, materials};
+use sensor::{Intrinsics, SensorSpec, World, look_at};
 
 /// Motor `seed`'s parts as cell objects, in the motor's frame, about its centre.
 fn motor(seed: u64) -> Vec<Object> {
     let params = motorgen::ParamSpace::addon().sample(seed).unwrap();
     let m = motorgen::build(&params, motorgen::Detail::Normal);
     let centre = m.attributes.bounds.centre();
+    let to_centre = glam::Affine3A::from_translation(-centre);
     m.parts
-        .into_iter()
-        .map(|mut p| {
-            p.mesh.positions.iter_mut().for_each(|q| *q -= centre);
-            Object {
-                name: p.name,
-                part: Some(p.kind),
-                instance: p.instance,
-                mesh: p.mesh,
-                material: materials::MATTE_GREY,
-            }
-        })
+        .iter()
+        .map(|p| Object::part(p, &to_centre))
         .collect()
 }
 

@@ -3,7 +3,7 @@
 
 use glam::{Affine3A, EulerRot, Mat3, Vec2, Vec3};
 use motorgen::kernel::{Aabb, Extrusion, Mesh, cuboid, extrude};
-use motorgen::{Motor, PartKind, Scheme};
+use motorgen::{Motor, Part, PartKind, Scheme};
 use rand::{Rng, RngExt};
 use sensor::materials::{
     BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, MATTE_GREY, STAINLESS_STEEL,
@@ -27,6 +27,19 @@ pub struct Object {
     pub mesh: Mesh,
     /// What the sensor's noise models read.
     pub material: Material,
+}
+
+impl Object {
+    /// Motor part `p` as an object, its mesh moved by `to_world`, of its part's material.
+    pub fn part(p: &Part, to_world: &Affine3A) -> Object {
+        Object {
+            name: p.name.clone(),
+            part: Some(p.kind),
+            instance: p.instance,
+            mesh: p.mesh.clone().transformed(to_world),
+            material: material(p.kind),
+        }
+    }
 }
 
 /// A composed cell.
@@ -124,13 +137,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         .parts
         .iter()
         .filter(|p| !hidden(p.kind))
-        .map(|p| Object {
-            name: p.name.clone(),
-            part: Some(p.kind),
-            instance: p.instance,
-            mesh: p.mesh.clone().transformed(&motor_to_world),
-            material: material(p.kind),
-        })
+        .map(|p| Object::part(p, &motor_to_world))
         .collect();
 
     let pot = motor

@@ -425,14 +425,8 @@ mod tests {
         let params = motorgen::ParamSpace::addon().sample(seed).unwrap();
         motorgen::build(&params, motorgen::Detail::Normal)
             .parts
-            .into_iter()
-            .map(|p| Object {
-                name: p.name,
-                part: Some(p.kind),
-                instance: p.instance,
-                mesh: p.mesh,
-                material: materials::MATTE_GREY,
-            })
+            .iter()
+            .map(|p| Object::part(p, &Affine3A::IDENTITY))
             .collect()
     }
 
