@@ -4,6 +4,8 @@
 //! one copy of it), the GIL released while Rust works. Bad input raises `ValueError`, a failed
 //! read or write `OSError`, with the messages of the command line.
 
+mod station;
+
 use std::borrow::Cow;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -525,6 +527,43 @@ fn scan(
     Ok(Scan { scan })
 }
 
+/// The configuration a user names: `config` a built-in configuration's name, a TOML file or a
+/// dict laid over the default configuration (the default one for `None`), with `overrides`
+/// setting dotted keys as `generate --set` does.
+fn config_table(
+    config: Option<&Bound<'_, PyAny>>,
+    overrides: Option<&Bound<'_, PyDict>>,
+) -> PyResult<toml::Table> {
+    let mut table = match config {
+        None => scene::config::default_table(),
+        Some(c) if c.is_instance_of::<PyDict>() => {
+            let toml::Value::Table(top) = to_toml("config", c)? else {
+                unreachable!("a dict is a table")
+            };
+            let mut table = scene::config::default_table();
+            scene::overlay(&mut table, top);
+            table
+        }
+        Some(c) => {
+            let name: PathBuf = c.extract().map_err(|_| {
+                PyValueError::new_err("config is a configuration's name, a TOML file or a dict")
+            })?;
+            scene::config::named_table(&name.to_string_lossy())
+                .map_err(|e| PyValueError::new_err(format!("config {e}")))?
+        }
+    };
+    for (key, value) in overrides.into_iter().flat_map(|d| d.iter()) {
+        let key: String = key.extract()?;
+        let value = if value.is_instance_of::<PyString>() {
+            parse_value(&value.extract::<String>()?)
+        } else {
+            to_toml(&key, &value)?
+        };
+        set_key(&mut table, &key, value).map_err(scene_error)?;
+    }
+    Ok(table)
+}
+
 /// Dataset samples made in memory: `Generator(config)[i]` is sample `i` of the configuration,
 /// the values `motorfactory generate` writes for it.
 #[pyclass(frozen, module = "motorfactory")]
@@ -579,33 +618,7 @@ impl Generator {
         overrides: Option<&Bound<'_, PyDict>>,
         samples: Option<u64>,
     ) -> PyResult<Generator> {
-        let mut table = match config {
-            None => scene::config::default_table(),
-            Some(c) if c.is_instance_of::<PyDict>() => {
-                let toml::Value::Table(top) = to_toml("config", c)? else {
-                    unreachable!("a dict is a table")
-                };
-                let mut table = scene::config::default_table();
-                scene::overlay(&mut table, top);
-                table
-            }
-            Some(c) => {
-                let name: PathBuf = c.extract().map_err(|_| {
-                    PyValueError::new_err("config is a configuration's name, a TOML file or a dict")
-                })?;
-                scene::config::named_table(&name.to_string_lossy())
-                    .map_err(|e| PyValueError::new_err(format!("config {e}")))?
-            }
-        };
-        for (key, value) in overrides.into_iter().flat_map(|d| d.iter()) {
-            let key: String = key.extract()?;
-            let value = if value.is_instance_of::<PyString>() {
-                parse_value(&value.extract::<String>()?)
-            } else {
-                to_toml(&key, &value)?
-            };
-            set_key(&mut table, &key, value).map_err(scene_error)?;
-        }
+        let table = config_table(config, overrides)?;
         let dataset =
             Dataset::new(table, samples, seed, Shard::ALL, "".as_ref()).map_err(scene_error)?;
         Ok(Generator { dataset })
@@ -690,6 +703,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Part>()?;
     m.add_class::<Scan>()?;
     m.add_class::<Generator>()?;
+    m.add_class::<station::Station>()?;
     m.add("PRESETS", sensor::PRESETS.to_vec())?;
     m.add(
         "CONFIGS",

@@ -1,59 +1,74 @@
-//! Surface coverage: a motor's surface sampled (2·10⁵ samples per m², the hidden ones tested
-//! and left out), and one view's observation of the samples (a 612×512 scan), on all threads.
+//! The inspection station at the default 612×512 (the Zivid 2+ M60, 4×4 pixels summed), on all
+//! threads: a station set up (a motor built and clamped, its surface sampled at 2·10⁵ per m²
+//! with the hidden samples tested and left out), one view taken (the scan, the coverage update
+//! and the points kept), the coverage update alone, and an ideal view's predicted gain.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use glam::Vec3;
-use scene::Object;
-use scene::coverage::{Rule, Surface, observe};
-use sensor::{Intrinsics, SensorSpec, World, look_at};
+use scene::coverage::{Rule, observe};
+use scene::rig::on_cap;
+use scene::{Clamping, Config, Recipe, Station};
 
-/// Motor `seed`'s parts as cell objects, in the motor's frame, about its centre.
-fn motor(seed: u64) -> Vec<Object> {
-    let params = motorgen::ParamSpace::addon().sample(seed).unwrap();
-    let m = motorgen::build(&params, motorgen::Detail::Normal);
-    let centre = m.attributes.bounds.centre();
-    let to_centre = glam::Affine3A::from_translation(-centre);
-    m.parts
-        .iter()
-        .map(|p| Object::part(p, &to_centre))
-        .collect()
+const RULE: Rule = Rule {
+    radius: 0.002,
+    max_angle_deg: 75.0,
+};
+
+fn recipe(diffuse: bool) -> Recipe {
+    let mut config = Config::default();
+    config.sensor.sampling = sensor::Sampling::By4x4;
+    if !diffuse {
+        let mut noise = sensor::SensorSpec::preset(&config.sensor.preset)
+            .unwrap()
+            .noise;
+        noise.interreflection.diffuse_reach = 0.0;
+        config.sensor.noise = Some(noise);
+    }
+    Recipe::new(config, Vec::new()).unwrap()
 }
 
 fn coverage(c: &mut Criterion) {
     let mut g = c.benchmark_group("coverage");
     g.sample_size(10);
-    let mut seed = 0;
-    g.bench_function("sample_surface", |b| {
+    let recipe = recipe(true);
+    let mut index = 0;
+    g.bench_function("station_new", |b| {
         b.iter(|| {
-            seed += 1;
-            black_box(Surface::sample(&motor(seed), 2e5, seed).len())
+            index += 1;
+            let s = Station::new(&recipe, index, Clamping::GearContainerUp, 2e5, RULE).unwrap();
+            black_box(s.surface.len())
         })
     });
-    let objects = motor(1);
-    let surface = Surface::sample(&objects, 2e5, 1);
-    let cell = scene::Cell {
-        objects: objects.clone(),
-        motor_to_world: glam::Affine3A::IDENTITY,
-        motor_centre: Vec3::ZERO,
-        fixture: Vec::new(),
-    };
-    let world = World::new(&cell.targets(motorgen::Scheme::SynMotor));
-    let mut sensor = SensorSpec::preset("ideal").unwrap();
-    sensor.intrinsics = Intrinsics::from_fov(612, 512, 30.0, 25.0);
-    let pose = look_at(Vec3::new(0.3, -0.2, 0.4), Vec3::ZERO, Vec3::Z).unwrap();
-    let scan = sensor::scan(&world, &sensor, &pose, 1);
-    let rule = Rule {
-        radius: 0.002,
-        max_angle_deg: 75.0,
-    };
+    for (name, recipe) in [
+        ("station_capture", recipe.clone()),
+        (
+            "station_capture_without_diffuse_interreflection",
+            self::recipe(false),
+        ),
+    ] {
+        let mut station = Station::new(&recipe, 1, Clamping::GearContainerUp, 2e5, RULE).unwrap();
+        let pose = on_cap(station.cell.motor_centre, 0.6, 0.8, 0.6, 0.0);
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                station.points.clear();
+                black_box(station.capture(&pose))
+            })
+        });
+    }
+    let station = Station::new(&recipe, 1, Clamping::GearContainerUp, 2e5, RULE).unwrap();
+    let pose = on_cap(station.cell.motor_centre, 0.6, 0.8, 0.6, 0.0);
+    let world = sensor::World::new(&station.cell.targets(motorgen::Scheme::SynMotor));
+    let scan = sensor::scan(&world, station.sensor(), &pose, 1);
     g.bench_function("observe_one_view", |b| {
         b.iter(|| {
-            let mut seen = vec![false; surface.len()];
-            observe(&surface, &scan, &sensor, rule, &mut seen);
+            let mut seen = vec![false; station.surface.len()];
+            observe(&station.surface, &scan, station.sensor(), RULE, &mut seen);
             black_box(seen)
         })
+    });
+    g.bench_function("predict_one_view", |b| {
+        b.iter(|| black_box(station.predict(&pose)))
     });
     g.finish();
 }

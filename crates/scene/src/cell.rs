@@ -1,5 +1,6 @@
-//! The work cell: a table, the clamp fixture and the motor lying in it cover up, with optional
-//! mask panels; every object a labelled, closed mesh in world coordinates (z up, table top z = 0).
+//! The work cell: a table, the clamp fixture and the motor in it (lying cover up, or standing),
+//! with optional mask panels; every object a labelled, closed mesh in world coordinates (z up,
+//! table top z = 0).
 
 use glam::{Affine3A, EulerRot, Mat3, Vec2, Vec3};
 use motorgen::kernel::{Aabb, Extrusion, Mesh, cuboid, extrude};
@@ -11,7 +12,7 @@ use sensor::materials::{
 };
 use sensor::{Classes, Material, Target};
 
-use crate::config::{CellConfig, Shift};
+use crate::config::{CellConfig, Clamping, Shift};
 use crate::fixture::{Fixture, fixture};
 
 /// One object of the cell.
@@ -65,22 +66,47 @@ pub struct Variation {
     pub fixture_shift: bool,
     /// Cover and cover bolts removed.
     pub cover_removed: bool,
+    /// How the motor lies in the fixture.
+    pub clamping: Clamping,
 }
 
 /// Thickness of the base plate, m.
 const PLATE: f32 = 0.012;
 
-/// The rotation that lays a motor down: its axis (motor +z) along world +x and its gear axis
-/// (out of the cover) along world +z.
-fn lay_down(motor: &Motor) -> Mat3 {
+/// The rotation that clamps a motor. Lying (`GearContainerUp`): its axis (motor +z) along world
+/// +x and its gear axis (out of the cover) along world +z. Standing (`PolePotUp`): its axis
+/// vertical with the pole pot's end up and the gear axis along world +x.
+fn orientation(motor: &Motor, clamping: Clamping) -> Mat3 {
     let axis = Vec3::Z;
-    let up = motor
+    let gear = motor
         .attributes
         .gears
         .first()
         .map_or(Vec3::NEG_Y, |g| g.axis);
-    let side = up.cross(axis);
-    Mat3::from_cols(Vec3::X, Vec3::Y, Vec3::Z) * Mat3::from_cols(axis, side, up).transpose()
+    // motor-frame axes that go to world x, y, z
+    let (x, z) = match clamping {
+        Clamping::GearContainerUp => (axis, gear),
+        Clamping::PolePotUp => {
+            let centre = |k: PartKind| {
+                motor
+                    .parts
+                    .iter()
+                    .find(|p| p.kind == k)
+                    .map_or(Vec3::ZERO, |p| p.mesh.bounds().centre())
+            };
+            let up = (centre(PartKind::PolePot) - centre(PartKind::GearContainer)).z;
+            (gear, if up >= 0.0 { axis } else { -axis })
+        }
+    };
+    Mat3::from_cols(x, z.cross(x), z).transpose()
+}
+
+/// The part the fixture's jaws grip.
+fn gripped(clamping: Clamping) -> PartKind {
+    match clamping {
+        Clamping::GearContainerUp => PartKind::PolePot,
+        Clamping::PolePotUp => PartKind::GearContainer,
+    }
 }
 
 fn corners(b: &Aabb) -> [Vec3; 8] {
@@ -107,7 +133,7 @@ fn draw(s: &Shift, rng: &mut impl Rng) -> Vec3 {
 
 /// Composes a cell around `motor`. Every random draw comes from `rng`, in a fixed order.
 pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut impl Rng) -> Cell {
-    let lay = Affine3A::from_mat3(lay_down(motor));
+    let lay = Affine3A::from_mat3(orientation(motor, vary.clamping));
     let laid = transform_box(&motor.attributes.bounds, &lay);
     let c = laid.centre();
     let nominal =
@@ -140,12 +166,13 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         .map(|p| Object::part(p, &motor_to_world))
         .collect();
 
-    let pot = motor
+    let grip = gripped(vary.clamping);
+    let held = motor
         .parts
         .iter()
-        .find(|p| p.kind == PartKind::PolePot)
+        .find(|p| p.kind == grip)
         .map(|p| transform_box(&p.mesh.bounds(), &nominal))
-        .expect("every motor has a pole pot");
+        .expect("every motor has a pole pot and a gear container");
     let motor_box = transform_box(&motor.attributes.bounds, &nominal);
     let mut shift = |s: &Shift| {
         if vary.fixture_shift {
@@ -178,7 +205,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         cuboid(Vec3::new(-0.6, -0.6, -0.02), Vec3::new(0.6, 0.6, 0.0)),
         LAMINATE,
     );
-    for (name, mesh, material) in fixture(&pot, &motor_box, PLATE, &shifts) {
+    for (name, mesh, material) in fixture(&held, &motor_box, PLATE, &shifts) {
         add(&mut objects, name.into(), mesh, material);
     }
     if vary.occluders {

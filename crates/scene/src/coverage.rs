@@ -174,24 +174,35 @@ pub fn observe(surface: &Surface, scan: &Scan, sensor: &SensorSpec, rule: Rule, 
     let projector = sensor
         .projector()
         .map(|p| pose.transform_point3(p.centre()));
+    // the measured points that can lie near a sample
+    let (lo, hi) = surface
+        .points
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let (lo, hi) = (lo - rule.radius, hi + rule.radius);
     let points: Vec<Vec3> = scan
         .pixels
         .iter()
         .filter(|p| p.is_valid())
         .map(|p| pose.transform_point3(p.point))
+        .filter(|w| w.cmpge(lo).all() && w.cmple(hi).all())
         .collect();
     let grid = Grid::new(&points, rule.radius);
     let cos = rule.max_angle_deg.to_radians().cos();
-    let faces = |p: Vec3, n: Vec3, eye: Vec3| n.dot((eye - p).normalize()) >= cos;
-    for (i, s) in seen.iter_mut().enumerate() {
-        if *s {
-            continue;
-        }
+    seen.par_iter_mut().enumerate().for_each(|(i, s)| {
         let (p, n) = (surface.points[i], surface.normals[i]);
-        *s = faces(p, n, camera)
-            && projector.is_none_or(|l| faces(p, n, l))
-            && grid.any_within(&points, p, rule.radius);
-    }
+        *s = *s
+            || faces(p, n, camera, cos)
+                && projector.is_none_or(|l| faces(p, n, l, cos))
+                && grid.any_within(&points, p, rule.radius);
+    });
+}
+
+/// Whether the surface at `p` with normal `n` faces `eye` within the angle whose cosine is `cos`.
+pub(crate) fn faces(p: Vec3, n: Vec3, eye: Vec3, cos: f32) -> bool {
+    n.dot((eye - p).normalize()) >= cos
 }
 
 /// Points binned in cubes of a given size, to find those near a point.

@@ -1,7 +1,7 @@
 //! The disassembly-station work cell of the AgiProbot datasets and the dataset runner that joins
-//! `motorgen` and `sensor`: a motor clamped cover up in a two-jaw fixture on a table, mask panels,
-//! camera rigs, the crop cuboid, the original augmentation levels, and labelled datasets written
-//! deterministically, in parallel, resumably and in shards.
+//! `motorgen` and `sensor`: a motor clamped (lying cover up, or standing) in a two-jaw fixture
+//! on a table, mask panels, camera rigs, the crop cuboid, the original augmentation levels, and
+//! labelled datasets written deterministically, in parallel, resumably and in shards.
 //!
 //! - [`Config`]: a dataset configuration; [`config::default_table`] is `configs/default.toml`,
 //!   which every configuration is laid over ([`overlay`], [`set_key`]), and
@@ -11,6 +11,8 @@
 //! - [`make`]: one [`Sample`] in memory: the motor, the [`Cell`] it lies in, and per view the
 //!   scan's cropped [`sensor::PointCloud`] with the pose and ground truth.
 //! - [`coverage`]: how much of a motor's surface a set of views observes.
+//! - [`Station`]: the inspection station, one motor clamped and viewed one view at a time, the
+//!   coverage so far and the points measured.
 //!
 //! # Example
 //!
@@ -43,15 +45,17 @@ pub mod preview;
 pub mod record;
 pub mod rig;
 pub mod sample;
+pub mod station;
 
 pub use augment::{Level, Split};
 pub use cell::{Cell, Object, Variation, compose};
 pub use claim::Claim;
-pub use config::{Config, Span, Variant, overlay, parse_value, set_key};
+pub use config::{Clamping, Config, Span, Variant, overlay, parse_value, set_key};
 pub use dataset::{Dataset, Prepared, Row, Shard, Summary, sample_json};
 pub use error::{Error, Result};
 pub use record::SampleJson;
 pub use sample::{Recipe, Sample, make};
+pub use station::{Capture, Station};
 
 /// The default dataset configuration (`configs/default.toml`), built into the binary.
 pub const DEFAULT_CONFIG: &str = include_str!("../configs/default.toml");

@@ -20,6 +20,21 @@ pub fn aim(eye: Vec3, target: Vec3, across: Vec3, roll: f32) -> Option<Affine3A>
     ))
 }
 
+/// The camera pose on a sphere of radius `distance` about `centre`, looking at it: `tilt` from
+/// the vertical, `azimuth` about world z from world x, and `roll` about the view from the pose
+/// whose image rows follow world x (world y for a view straight down x), radians.
+pub fn on_cap(centre: Vec3, tilt: f32, azimuth: f32, distance: f32, roll: f32) -> Affine3A {
+    let dir = Vec3::new(
+        tilt.sin() * azimuth.cos(),
+        tilt.sin() * azimuth.sin(),
+        tilt.cos(),
+    );
+    let eye = centre + distance * dir;
+    aim(eye, centre, Vec3::X, roll)
+        .or_else(|| aim(eye, centre, Vec3::Y, roll))
+        .expect("a positive distance puts the eye off the centre")
+}
+
 /// The camera poses of the cell with index `index` whose motor centre is `centre`.
 pub fn camera_poses(
     config: &CameraConfig,
@@ -36,36 +51,24 @@ pub fn camera_poses(
                     centre + Vec3::from_slice(&p[3..]),
                 )
             };
-            let (eye, target, roll) = match config.rig {
+            let (eye, target) = match config.rig {
                 Rig::Cap => {
                     let tilt = config.tilt_deg.sample(rng).to_radians();
                     let azimuth = config.azimuth_deg.sample(rng).to_radians();
                     let distance = config.distance.sample(rng);
                     let roll = config.roll_deg.sample(rng).to_radians();
-                    let dir = Vec3::new(
-                        tilt.sin() * azimuth.cos(),
-                        tilt.sin() * azimuth.sin(),
-                        tilt.cos(),
-                    );
-                    (centre + distance * dir, centre, roll)
+                    return on_cap(centre, tilt, azimuth, distance, roll);
                 }
-                Rig::Fixed => {
-                    let (e, t) = relative(&config.look_at);
-                    (e, t, 0.0)
-                }
+                Rig::Fixed => relative(&config.look_at),
                 Rig::List => {
                     let n = config.poses.len() as u64;
-                    let (e, t) = relative(&config.poses[((index * views + v) % n) as usize]);
-                    (e, t, 0.0)
+                    relative(&config.poses[((index * views + v) % n) as usize])
                 }
             };
-            let across = match config.rig {
-                Rig::Cap => Vec3::X,
-                _ => (target - eye).cross(Vec3::from(config.up)),
-            };
+            let across = (target - eye).cross(Vec3::from(config.up));
             // a view straight along `across` has no defined roll: fall back to world y
-            aim(eye, target, across, roll)
-                .or_else(|| aim(eye, target, Vec3::Y, roll))
+            aim(eye, target, across, 0.0)
+                .or_else(|| aim(eye, target, Vec3::Y, 0.0))
                 .expect("eye and target differ (checked with the config)")
         })
         .collect()

@@ -27,13 +27,15 @@ thread_local! {
 /// so that changing one setting leaves the others' draws alone. (The sensor's per-pixel draws
 /// are keyed by the scan's seed, `Seed::Scan`, and streams of their own: `sensor::noise::stream`.)
 #[derive(Clone, Copy)]
-enum Seed {
+pub(crate) enum Seed {
     Motor,
     Cell,
     Camera,
     Crop,
     NoiseScale,
     Cover,
+    /// The inspection station's surface samples.
+    Surface,
     /// View `k`'s scan.
     Scan(u64),
     /// View `k`'s jitter after cropping.
@@ -42,7 +44,7 @@ enum Seed {
 
 impl Seed {
     /// The seed of this draw in the sample with seed `sample`.
-    fn of(self, sample: u64) -> u64 {
+    pub(crate) fn of(self, sample: u64) -> u64 {
         let stream = match self {
             Seed::Motor => 0,
             Seed::Cell => 1,
@@ -50,6 +52,7 @@ impl Seed {
             Seed::Crop => 3,
             Seed::NoiseScale => 4,
             Seed::Cover => 5,
+            Seed::Surface => 6,
             Seed::Scan(k) => 100 + k,
             Seed::Jitter(k) => 200 + k,
         };
@@ -57,7 +60,7 @@ impl Seed {
     }
 
     /// A generator for this draw in the sample with seed `sample`.
-    fn rng(self, sample: u64) -> ChaCha8Rng {
+    pub(crate) fn rng(self, sample: u64) -> ChaCha8Rng {
         ChaCha8Rng::seed_from_u64(self.of(sample))
     }
 }
@@ -105,6 +108,22 @@ impl Recipe {
         };
         let (level, split) = assign(k, slot, &self.config.augment);
         (variant, level, split)
+    }
+
+    /// Sample `index`'s seed and motor.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample
+    /// do not form a valid motor.
+    pub fn motor(&self, index: u64) -> Result<(u64, Motor)> {
+        let seed = derive_seed(self.config.seed, index);
+        let space = &self.spaces[(index % self.spaces.len() as u64) as usize];
+        let motor = build(
+            &space.sample(Seed::Motor.of(seed))?,
+            self.config.motor.detail,
+        );
+        Ok((seed, motor))
     }
 
     /// The sensor, its sampling applied.
@@ -217,10 +236,8 @@ fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
 /// form a valid motor.
 pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let config = &recipe.config;
-    let seed = derive_seed(config.seed, index);
+    let (seed, motor) = recipe.motor(index)?;
     let (variant, level, split) = recipe.placement(index);
-    let space = &recipe.spaces[(index % recipe.spaces.len() as u64) as usize];
-    let motor = build(&space.sample(Seed::Motor.of(seed))?, config.motor.detail);
     let cover_removed = Seed::Cover.rng(seed).random::<f32>() < config.motor.cover_removed;
     let lc = level.config(&config.augment);
     let cell = compose(
@@ -230,6 +247,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             occluders: lc.occluders,
             fixture_shift: lc.fixture_shift,
             cover_removed,
+            clamping: config.cell.clamping,
         },
         &mut Seed::Cell.rng(seed),
     );
@@ -252,19 +270,9 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         .enumerate()
         .map(|(v, pose)| {
             let noise_seed = Seed::Scan(v as u64).of(seed);
-            // unless the whole scene is wanted, only pixels whose rays cross the crop box grown
-            // beyond the reach of the sensor's neighbour effects (in pixel footprints at the
-            // box's far corner, than which no corner is farther), so cropping loses nothing
-            let region = (!whole).then(|| {
-                let far = crop.centre().distance(Vec3::from(pose.translation))
-                    + crop.size().length() / 2.0;
-                let k = &sensor.intrinsics;
-                let margin = sensor.reach_px() * far / k.fx.min(k.fy) as f32;
-                Region {
-                    min: crop.min - margin,
-                    max: crop.max + margin,
-                }
-            });
+            // unless the whole scene is wanted, only pixels whose rays cross the crop box, so
+            // cropping loses nothing
+            let region = (!whole).then(|| region_around(&crop, &pose, &sensor));
             let buffer = PIXELS.take();
             let s = scan_reusing(&world, &sensor, &pose, noise_seed, region.as_ref(), buffer);
             let mut jitter = Seed::Jitter(v as u64).rng(seed);
@@ -302,6 +310,19 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         noise_scale,
         views,
     })
+}
+
+/// The region of pixels a scan from `pose` needs to measure the points in `b` (world) as a
+/// whole scan would: the box grown beyond the reach of the sensor's neighbour effects, in pixel
+/// footprints at the box's far corner (than which no corner is farther).
+pub(crate) fn region_around(b: &Aabb, pose: &Affine3A, sensor: &SensorSpec) -> Region {
+    let far = b.centre().distance(Vec3::from(pose.translation)) + b.size().length() / 2.0;
+    let k = &sensor.intrinsics;
+    let margin = sensor.reach_px() * far / k.fx.min(k.fy) as f32;
+    Region {
+        min: b.min - margin,
+        max: b.max + margin,
+    }
 }
 
 /// The scan's points that lie in `crop` (world), in the camera frame, each moved by a uniform

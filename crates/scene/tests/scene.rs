@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use scene::augment::{Level, Split};
 use scene::config::{BUILTIN, CameraConfig, Config, Rig, Variant, default_table};
 use scene::rig::camera_poses;
-use scene::{Recipe, Variation, compose};
+use scene::{Clamping, Recipe, Variation, compose};
 
 #[test]
 fn every_builtin_config_is_valid_over_the_default_and_shipped_in_configs() {
@@ -48,7 +48,7 @@ fn every_builtin_config_is_valid_over_the_default_and_shipped_in_configs() {
 }
 
 #[test]
-fn motors_lie_cover_up_in_closed_fixtures_for_many_seeds() {
+fn motors_lie_cover_up_or_stand_pole_pot_up_in_closed_fixtures_for_many_seeds() {
     let config = Config::default().cell;
     for seed in 0..40 {
         let params = ParamSpace::addon().sample(derive_seed(7, seed)).unwrap();
@@ -57,16 +57,33 @@ fn motors_lie_cover_up_in_closed_fixtures_for_many_seeds() {
             occluders: seed % 2 == 0,
             fixture_shift: seed % 3 == 0,
             cover_removed: seed % 4 == 0,
+            clamping: Clamping::ALL[usize::from(seed % 5 < 2)],
         };
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let cell = compose(&motor, &config, vary, &mut rng);
-        // cover up within the pose jitter, motor axis along world x
-        let up = cell
+        let gear = cell
             .motor_to_world
             .transform_vector3(motor.attributes.gears[0].axis);
-        assert!(up.z > (16f32).to_radians().cos(), "{up}");
         let axis = cell.motor_to_world.transform_vector3(Vec3::Z);
-        assert!(axis.x.abs() > 0.98, "{axis}");
+        let centre = |k: PartKind| {
+            let o = cell.objects.iter().find(|o| o.part == Some(k)).unwrap();
+            o.mesh.bounds().centre()
+        };
+        let held = match vary.clamping {
+            Clamping::GearContainerUp => {
+                // cover up within the pose jitter, motor axis along world x
+                assert!(gear.z > (16f32).to_radians().cos(), "{gear}");
+                assert!(axis.x.abs() > 0.98, "{axis}");
+                PartKind::PolePot
+            }
+            Clamping::PolePotUp => {
+                // motor axis vertical within the jitter, the pole pot above the gear container
+                assert!(axis.z.abs() > (16f32).to_radians().cos(), "{axis}");
+                assert!(centre(PartKind::PolePot).z > centre(PartKind::GearContainer).z + 0.02);
+                assert!(gear.x > 0.98, "{gear}");
+                PartKind::GearContainer
+            }
+        };
         // every object a closed solid; unique instances; motor above the table
         let mut instances = std::collections::BTreeSet::new();
         for o in &cell.objects {
@@ -96,11 +113,11 @@ fn motors_lie_cover_up_in_closed_fixtures_for_many_seeds() {
         assert_eq!(panels > 0, vary.occluders);
         let shifted = cell.fixture.iter().any(|(_, s)| *s != Vec3::ZERO);
         assert_eq!(shifted, vary.fixture_shift);
-        // the jaws grip the pole pot: each within 2 cm of it
+        // the jaws grip the held part: each within 2 cm of it
         let pot = cell
             .objects
             .iter()
-            .find(|o| o.part == Some(PartKind::PolePot))
+            .find(|o| o.part == Some(held))
             .unwrap()
             .mesh
             .bounds();

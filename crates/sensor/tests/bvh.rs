@@ -30,6 +30,26 @@ fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, u32)>
     best.map(|(t, i)| (t as f32, i))
 }
 
+/// How far inside triangle `tri` the line through `o` along `d` passes, in barycentric
+/// coordinates (f64): the smallest of u, v and 1 - u - v; negative outside.
+fn inside_by(tri: &[Vec3; 3], o: Vec3, d: Vec3) -> f64 {
+    let (o, d) = (o.as_dvec3(), d.as_dvec3());
+    let [a, b, c] = tri.map(|v| v.as_dvec3());
+    let (e1, e2) = (b - a, c - a);
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    let s = o - a;
+    let u = s.dot(p) / det;
+    let v = d.dot(s.cross(e1)) / det;
+    u.min(v).min(1.0 - u - v)
+}
+
+/// Whether the ray grazes an edge of the triangle it hits (by `hit`, its index) within the
+/// rounding of f32: there the BVH's f32 test and the f64 brute force may disagree.
+fn grazes(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, hit: Option<u32>) -> bool {
+    hit.is_some_and(|i| inside_by(&tris[i as usize], o, d).abs() < 1e-5)
+}
+
 fn v3() -> impl Strategy<Value = Vec3> {
     (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
@@ -57,8 +77,10 @@ proptest! {
             let want = brute(&tris, o, d, 10.0);
             match (got, want) {
                 (None, None) => {}
+                // a nearer hit the BVH misses only where the ray grazes its edge
+                (Some(h), Some((t, i))) if h.t > t + 1e-4 && grazes(&tris, o, d, Some(i)) => {}
                 (Some(h), Some((t, i))) => {
-                    prop_assert!((h.t - t).abs() < 1e-4, "t {} vs {}", h.t, t);
+                    prop_assert!((h.t - t).abs() < 1e-4, "t {} vs {} ({})", h.t, t, inside_by(&tris[i as usize], o, d));
                     if h.triangle != i {
                         // a different triangle only at a tie
                         let other = brute(&[tris[h.triangle as usize]], o, d, 10.0).map(|x| x.0);
@@ -69,9 +91,15 @@ proptest! {
                     prop_assert!((hit - (o + h.t * d)).length() < 1e-4);
                 }
                 // grazing edge hits may differ between the two tests by rounding
-                (g, w) => prop_assert!(false, "bvh {:?} vs brute {:?}", g, w),
+                (g, w) => prop_assert!(
+                    grazes(&tris, o, d, g.map(|h| h.triangle)) || grazes(&tris, o, d, w.map(|x| x.1)),
+                    "bvh {:?} vs brute {:?}", g, w
+                ),
             }
-            prop_assert_eq!(bvh.occluded(o, d, 10.0), want.is_some());
+            prop_assert!(
+                bvh.occluded(o, d, 10.0) == want.is_some() || grazes(&tris, o, d, want.map(|x| x.1))
+                    || grazes(&tris, o, d, bvh.cast(o, d, 10.0).map(|h| h.triangle))
+            );
             if let Some((t, _)) = want {
                 prop_assert!(!bvh.occluded(o, d, t * 0.999) || brute(&tris, o, d, t * 0.999).is_some());
             }

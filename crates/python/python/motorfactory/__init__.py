@@ -4,10 +4,13 @@
 - :func:`scan` scans meshes with a simulated sensor (Zivid, Kinect, ...);
 - :class:`Generator` makes the samples of a dataset configuration, the values
   ``motorfactory generate`` writes, by index;
-- :mod:`motorfactory.torch` streams them into PyTorch (``torch`` is optional).
+- :mod:`motorfactory.torch` streams them into PyTorch (``torch`` is optional);
+- :class:`Station` clamps a motor at the inspection station and takes views of it one at a
+  time, with the surface they cover; :mod:`motorfactory.gym` makes it a Gymnasium environment
+  (``gymnasium`` is optional).
 """
 
-from ._core import CONFIGS, PRESETS, Generator, Motor, Part, Scan, __version__, motor, scan
+from ._core import CONFIGS, PRESETS, Generator, Motor, Part, Scan, Station, __version__, motor, scan
 
 __all__ = [
     "CONFIGS",
@@ -16,6 +19,7 @@ __all__ = [
     "Motor",
     "Part",
     "Scan",
+    "Station",
     "__version__",
     "motor",
     "scan",

@@ -182,6 +182,31 @@ pub struct OccluderConfig {
     pub tilt_deg: f32,
 }
 
+/// How the motor is clamped: the inspection station's two setups, each hiding what the other
+/// shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Clamping {
+    /// Lying, the motor axis along world x and the cover up; the jaws grip the pole pot.
+    #[default]
+    GearContainerUp,
+    /// Standing, the motor axis vertical and the pole pot up; the jaws grip the gear container.
+    PolePotUp,
+}
+
+impl Clamping {
+    /// Both setups.
+    pub const ALL: [Clamping; 2] = [Clamping::GearContainerUp, Clamping::PolePotUp];
+
+    /// The name used in configs and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Clamping::GearContainerUp => "gear-container-up",
+            Clamping::PolePotUp => "pole-pot-up",
+        }
+    }
+}
+
 /// `[cell]`: the work cell.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -191,6 +216,8 @@ pub struct CellConfig {
     pub pose_jitter_deg: [f32; 3],
     /// Gap between the motor's lowest point and the base plate at the nominal pose, m.
     pub clearance: f32,
+    /// How the motor lies in the fixture.
+    pub clamping: Clamping,
     /// Fixture shifts.
     pub fixture: FixtureConfig,
     /// Occluding panels.

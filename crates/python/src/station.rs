@@ -1,0 +1,222 @@
+//! `motorfactory.Station`: the inspection station, one motor clamped and viewed one view at a
+//! time, the surface covered so far and the points measured; the core of
+//! `motorfactory.gym.ViewPlanningEnv`.
+
+use std::f32::consts::FRAC_PI_2;
+
+use glam::{Affine3A, Vec3};
+use numpy::PyArray1;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use scene::coverage::Rule;
+use scene::rig::on_cap;
+use scene::{Clamping, Dataset, Shard};
+
+use crate::{config_table, scene_error, vectors, work};
+
+/// One motor of a dataset configuration clamped at the inspection station.
+#[pyclass(module = "motorfactory")]
+pub(crate) struct Station {
+    station: scene::Station,
+}
+
+impl Station {
+    /// The camera pose at `distance` (m) from the motor's centre, `azimuth` about world z from
+    /// world x, `elevation` above the horizontal and `roll` about the view, radians.
+    fn pose(&self, azimuth: f32, elevation: f32, distance: f32, roll: f32) -> PyResult<Affine3A> {
+        let s = self.station.sensor();
+        if !(s.min_range..=s.max_range).contains(&distance) {
+            return Err(PyValueError::new_err(format!(
+                "distance = {distance} m is not allowed: the sensor's working range is {} to {} m",
+                s.min_range, s.max_range
+            )));
+        }
+        if !(0.0..=FRAC_PI_2).contains(&elevation) || !azimuth.is_finite() || !roll.is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "elevation = {elevation} is not allowed: 0 to pi/2 (azimuth and roll finite)"
+            )));
+        }
+        Ok(on_cap(
+            self.station.cell.motor_centre,
+            FRAC_PI_2 - elevation,
+            azimuth,
+            distance,
+            roll,
+        ))
+    }
+}
+
+#[pymethods]
+impl Station {
+    /// Sample `index`'s motor of the configuration (`config` and `overrides` as for
+    /// `Generator`) clamped as `clamping` (`gear-container-up` or `pole-pot-up`), its surface
+    /// sampled at `density` per m²; a view observes a sample when a measured point lies within
+    /// `radius` (m) and the sample faces the camera and the projector within `max_angle`
+    /// degrees.
+    #[new]
+    #[pyo3(signature = (config = None, index = 0, clamping = "gear-container-up", overrides = None, density = 2e5, radius = 0.002, max_angle = 75.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        config: Option<&Bound<'_, PyAny>>,
+        index: u64,
+        clamping: &str,
+        overrides: Option<&Bound<'_, PyDict>>,
+        density: f32,
+        radius: f32,
+        max_angle: f32,
+    ) -> PyResult<Station> {
+        let clamping = Clamping::ALL
+            .into_iter()
+            .find(|c| c.name() == clamping)
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "clamping = \"{}\" is not allowed: \"gear-container-up\" or \"pole-pot-up\"",
+                    motorgen::shown(clamping)
+                ))
+            })?;
+        for (name, value, range) in [
+            ("density", density, 1e3..=1e7),
+            ("radius", radius, 1e-4..=0.05),
+            ("max_angle", max_angle, 1.0..=90.0),
+        ] {
+            if !range.contains(&value) {
+                return Err(PyValueError::new_err(format!(
+                    "{name} = {value} is not allowed: {} to {}",
+                    range.start(),
+                    range.end()
+                )));
+            }
+        }
+        let table = config_table(config, overrides)?;
+        let dataset =
+            Dataset::new(table, None, None, Shard::ALL, "".as_ref()).map_err(scene_error)?;
+        let rule = Rule {
+            radius,
+            max_angle_deg: max_angle,
+        };
+        let station = work(py, || {
+            let recipe = dataset.recipe(index)?;
+            scene::Station::new(&recipe, index, clamping, density, rule)
+        })
+        .map_err(scene_error)?;
+        Ok(Station { station })
+    }
+
+    /// The motor's centre, world, m: the point views look at.
+    #[getter]
+    fn centre(&self) -> (f32, f32, f32) {
+        self.station.cell.motor_centre.into()
+    }
+
+    /// The sensor's working range (nearest and farthest depth), m.
+    #[getter]
+    fn working_range(&self) -> (f32, f32) {
+        let s = self.station.sensor();
+        (s.min_range, s.max_range)
+    }
+
+    /// How many views were taken.
+    #[getter]
+    fn views(&self) -> u32 {
+        self.station.taken()
+    }
+
+    /// The camera-to-world pose (4×4, OpenCV axes) of the view at `azimuth`, `elevation`,
+    /// `distance`, `roll` (see `capture`).
+    #[pyo3(signature = (azimuth, elevation, distance, roll = 0.0))]
+    fn camera_pose(
+        &self,
+        azimuth: f32,
+        elevation: f32,
+        distance: f32,
+        roll: f32,
+    ) -> PyResult<[[f32; 4]; 4]> {
+        Ok(scene::sample::matrix(
+            &self.pose(azimuth, elevation, distance, roll)?,
+        ))
+    }
+
+    /// Takes a view from `distance` (m, within the working range) of the motor's centre,
+    /// `azimuth` about world z from world x, `elevation` above the horizontal (0 to pi/2) and
+    /// `roll` about the view, radians; returns the share of the surface it observed first
+    /// (`gain`) and the points it measured near the motor: `xyz` and `normal` (N×3 float32,
+    /// world).
+    #[pyo3(signature = (azimuth, elevation, distance, roll = 0.0))]
+    fn capture<'py>(
+        &mut self,
+        py: Python<'py>,
+        azimuth: f32,
+        elevation: f32,
+        distance: f32,
+        roll: f32,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let pose = self.pose(azimuth, elevation, distance, roll)?;
+        let station = &mut self.station;
+        let (gain, xyz, normal) = work(py, || {
+            let from = station.points.len();
+            let got = station.capture(&pose);
+            (
+                got.gain,
+                station.points[from..].to_vec(),
+                station.normals[from..].to_vec(),
+            )
+        });
+        let d = PyDict::new(py);
+        d.set_item("gain", gain)?;
+        d.set_item("xyz", vectors(py, xyz)?)?;
+        d.set_item("normal", vectors(py, normal)?)?;
+        Ok(d)
+    }
+
+    /// The share of the surface not yet observed that an ideal sensor would observe from the
+    /// view (arguments as `capture`): in its image and working range, facing the camera and the
+    /// projector, with free lines of sight to both.
+    #[pyo3(signature = (azimuth, elevation, distance, roll = 0.0))]
+    fn predict(
+        &self,
+        py: Python<'_>,
+        azimuth: f32,
+        elevation: f32,
+        distance: f32,
+        roll: f32,
+    ) -> PyResult<f32> {
+        let pose = self.pose(azimuth, elevation, distance, roll)?;
+        Ok(work(py, || self.station.predict(&pose)))
+    }
+
+    /// The share of the surface observed so far, and per part (by name).
+    fn coverage(&self) -> (f32, Vec<(&'static str, f32)>) {
+        let (total, parts) = self.station.coverage();
+        (
+            total,
+            parts.into_iter().map(|(k, c)| (k.name(), c)).collect(),
+        )
+    }
+
+    /// The surface samples: `xyz` and `normal` (N×3 float32, world), `instance` (uint32),
+    /// `part` (names, by sample) and `seen` (bool, observed so far); each stands for `area` m².
+    fn surface<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.station.surface;
+        let d = PyDict::new(py);
+        d.set_item("xyz", vectors(py, s.points.clone())?)?;
+        d.set_item("normal", vectors(py, s.normals.clone())?)?;
+        d.set_item("instance", PyArray1::from_slice(py, &s.instances))?;
+        d.set_item("part", s.parts.iter().map(|k| k.name()).collect::<Vec<_>>())?;
+        d.set_item("seen", PyArray1::from_slice(py, &self.station.seen))?;
+        d.set_item("area", s.area)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        let v: Vec3 = self.station.cell.motor_centre;
+        format!(
+            "Station({} surface samples, {} views, coverage {:.3}, centre {v})",
+            self.station.surface.len(),
+            self.station.taken(),
+            self.station.coverage().0
+        )
+    }
+}
