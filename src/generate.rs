@@ -70,7 +70,23 @@ impl ConfigCmd {
     }
 }
 
-fn scene_error(e: scene::Error) -> CliError {
+/// The configuration `--config` names (the default one when absent), `--set` applied.
+pub(crate) fn config_table(config: Option<&str>, sets: &[String]) -> CliResult<toml::Table> {
+    let name = config.unwrap_or("default");
+    let mut table = named_table(name).map_err(|e| CliError::Usage(format!("--config {e}")))?;
+    for s in sets {
+        let (key, value) = s.split_once('=').ok_or_else(|| {
+            CliError::Usage(format!(
+                "--set {s}: expected KEY=VALUE, e.g. --set camera.views=2"
+            ))
+        })?;
+        set_key(&mut table, key.trim(), parse_value(value.trim())).map_err(scene_error)?;
+    }
+    Ok(table)
+}
+
+/// A scene error as a CLI error: the user's (exit 2) or a failure while working.
+pub(crate) fn scene_error(e: scene::Error) -> CliError {
     if e.is_usage() {
         CliError::Usage(e.to_string())
     } else {
@@ -79,27 +95,18 @@ fn scene_error(e: scene::Error) -> CliError {
 }
 
 impl GenerateCmd {
-    /// Reads the configuration and applies `--set`.
-    fn table(&self) -> CliResult<toml::Table> {
-        let name = self.config.as_deref().unwrap_or("default");
-        let mut table = named_table(name).map_err(|e| CliError::Usage(format!("--config {e}")))?;
-        for s in &self.sets {
-            let (key, value) = s.split_once('=').ok_or_else(|| {
-                CliError::Usage(format!(
-                    "--set {s}: expected KEY=VALUE, e.g. --set camera.views=2"
-                ))
-            })?;
-            set_key(&mut table, key.trim(), parse_value(value.trim())).map_err(scene_error)?;
-        }
-        Ok(table)
-    }
-
     /// Runs the command.
     pub fn run(&self) -> CliResult<()> {
         let signals = Signals::install()?;
         let shard = Shard::parse(&self.shard).map_err(scene_error)?;
-        let dataset = Dataset::new(self.table()?, self.samples, self.seed, shard, &self.out)
-            .map_err(scene_error)?;
+        let dataset = Dataset::new(
+            config_table(self.config.as_deref(), &self.sets)?,
+            self.samples,
+            self.seed,
+            shard,
+            &self.out,
+        )
+        .map_err(scene_error)?;
         let jobs = self.jobs.unwrap_or_else(rayon::current_num_threads);
         let sensor = &dataset.sensor().intrinsics;
         memory::ensure_fits(

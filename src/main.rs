@@ -9,6 +9,7 @@ macro_rules! note {
     }};
 }
 
+mod coverage;
 mod error;
 mod generate;
 mod memory;
@@ -44,6 +45,9 @@ enum Command {
     Config(generate::ConfigCmd),
     /// Draw a sample, or a contact sheet of a dataset, coloured by class.
     Preview(preview::PreviewCmd),
+    /// Measure how much of a motor's surface a configuration's views cover when it is clamped
+    /// at the inspection station.
+    Coverage(coverage::CoverageCmd),
 }
 
 fn main() {
@@ -56,6 +60,7 @@ fn main() {
         Command::Generate(cmd) => cmd.run(),
         Command::Config(cmd) => cmd.run(),
         Command::Preview(cmd) => cmd.run(),
+        Command::Coverage(cmd) => cmd.run(),
     };
     if let Err(e) = result {
         note!("error: {}", printable(&e.to_string()));

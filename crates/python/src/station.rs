@@ -14,7 +14,7 @@ use scene::coverage::Rule;
 use scene::rig::on_cap;
 use scene::{Clamping, Dataset, Shard};
 
-use crate::{config_table, scene_error, vectors, work};
+use crate::{cloud_dict, config_table, scene_error, vectors, work};
 
 /// One motor of a dataset configuration clamped at the inspection station.
 #[pyclass(module = "motorfactory")]
@@ -52,9 +52,9 @@ impl Station {
 impl Station {
     /// Sample `index`'s motor of the configuration (`config` and `overrides` as for
     /// `Generator`) clamped as `clamping` (`gear-container-up` or `pole-pot-up`), its surface
-    /// sampled at `density` per m²; a view observes a sample when a measured point lies within
-    /// `radius` (m) and the sample faces the camera and the projector within `max_angle`
-    /// degrees.
+    /// sampled at `density` per m² (10³ to 10⁷); a view observes a sample when a measured point
+    /// lies within `radius` (m, 0.1 to 50 mm) and the sample faces the camera and the projector
+    /// within `max_angle` degrees (1 to 90).
     #[new]
     #[pyo3(signature = (config = None, index = 0, clamping = "gear-container-up", overrides = None, density = 2e5, radius = 0.002, max_angle = 75.0))]
     #[allow(clippy::too_many_arguments)]
@@ -77,19 +77,6 @@ impl Station {
                     motorgen::shown(clamping)
                 ))
             })?;
-        for (name, value, range) in [
-            ("density", density, 1e3..=1e7),
-            ("radius", radius, 1e-4..=0.05),
-            ("max_angle", max_angle, 1.0..=90.0),
-        ] {
-            if !range.contains(&value) {
-                return Err(PyValueError::new_err(format!(
-                    "{name} = {value} is not allowed: {} to {}",
-                    range.start(),
-                    range.end()
-                )));
-            }
-        }
         let table = config_table(config, overrides)?;
         let dataset =
             Dataset::new(table, None, None, Shard::ALL, "".as_ref()).map_err(scene_error)?;
@@ -142,8 +129,8 @@ impl Station {
     /// Takes a view from `distance` (m, within the working range) of the motor's centre,
     /// `azimuth` about world z from world x, `elevation` above the horizontal (0 to pi/2) and
     /// `roll` about the view, radians; returns the share of the surface it observed first
-    /// (`gain`) and the points it measured near the motor: `xyz` and `normal` (N×3 float32,
-    /// world).
+    /// (`gain`) and the points it measured near the motor, world, with the arrays of a sample's
+    /// view (`xyz`, `normal`, `intensity`, `snr`, `rgb`, `label`, `instance`).
     #[pyo3(signature = (azimuth, elevation, distance, roll = 0.0))]
     fn capture<'py>(
         &mut self,
@@ -155,19 +142,12 @@ impl Station {
     ) -> PyResult<Bound<'py, PyDict>> {
         let pose = self.pose(azimuth, elevation, distance, roll)?;
         let station = &mut self.station;
-        let (gain, xyz, normal) = work(py, || {
-            let from = station.points.len();
+        let (gain, cloud) = work(py, || {
             let got = station.capture(&pose);
-            (
-                got.gain,
-                station.points[from..].to_vec(),
-                station.normals[from..].to_vec(),
-            )
+            (got.gain, station.clouds.last().cloned().unwrap_or_default())
         });
-        let d = PyDict::new(py);
+        let d = cloud_dict(py, cloud)?;
         d.set_item("gain", gain)?;
-        d.set_item("xyz", vectors(py, xyz)?)?;
-        d.set_item("normal", vectors(py, normal)?)?;
         Ok(d)
     }
 

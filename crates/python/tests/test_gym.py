@@ -86,6 +86,7 @@ def test_a_view_taken_twice_adds_little_and_the_surface_is_the_stations():
     again = station.capture(0.3, 1.2, 0.6)
     assert first["gain"] > 0.05 and again["gain"] < 0.005
     assert first["xyz"].shape == first["normal"].shape and len(first["xyz"]) > 1000
+    assert (first["label"] > 0).mean() > 0.3  # the motor's points labelled, the jaws' 0
     surface = station.surface()
     total, parts = station.coverage()
     assert math.isclose(surface["seen"].mean(), total, rel_tol=1e-6)

@@ -51,7 +51,7 @@ fn coverage(c: &mut Criterion) {
         let pose = on_cap(station.cell.motor_centre, 0.6, 0.8, 0.6, 0.0);
         g.bench_function(name, |b| {
             b.iter(|| {
-                station.points.clear();
+                station.clouds.clear();
                 black_box(station.capture(&pose))
             })
         });

@@ -55,6 +55,8 @@ pub struct Cell {
     pub motor_centre: Vec3,
     /// Fixture parts and how far each moved from rest, m.
     pub fixture: Vec<(String, Vec3)>,
+    /// How the motor lies in the fixture.
+    pub clamping: Clamping,
 }
 
 /// What varies between cells besides the motor.
@@ -254,6 +256,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         objects,
         motor_to_world,
         motor_centre,
+        clamping: vary.clamping,
         fixture: [
             ("fixed_jaw", shifts.fixed_jaw),
             ("sliding_jaw", shifts.sliding_jaw),

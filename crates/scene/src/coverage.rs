@@ -32,6 +32,30 @@ impl Surface {
     /// `density` samples per square metre, drawn from `seed`, less the hidden ones (see
     /// [`exposed`]): the same objects, density and seed give the same samples.
     pub fn sample(objects: &[Object], density: f32, seed: u64) -> Surface {
+        let all = Surface::sample_all(objects, density, seed);
+        let motor = motor_world(objects);
+        let shown: Vec<bool> = (0..all.len())
+            .into_par_iter()
+            .map(|i| exposed(&motor, all.points[i], all.normals[i]))
+            .collect();
+        fn keep<T: Copy>(v: &[T], shown: &[bool]) -> Vec<T> {
+            v.iter()
+                .zip(shown)
+                .filter(|(_, s)| **s)
+                .map(|(x, _)| *x)
+                .collect()
+        }
+        Surface {
+            points: keep(&all.points, &shown),
+            normals: keep(&all.normals, &shown),
+            instances: keep(&all.instances, &shown),
+            parts: keep(&all.parts, &shown),
+            area: all.area,
+        }
+    }
+
+    /// [`Surface::sample`] with the hidden samples kept.
+    pub fn sample_all(objects: &[Object], density: f32, seed: u64) -> Surface {
         // every triangle of every part, with its cumulative area
         let mut tris: Vec<(usize, [Vec3; 3])> = Vec::new();
         let mut cumulative: Vec<f64> = Vec::new();
@@ -77,12 +101,7 @@ impl Surface {
                 )
             })
             .collect();
-        let motor = motor_world(objects);
-        let shown: Vec<bool> = drawn
-            .par_iter()
-            .map(|&(_, p, normal)| exposed(&motor, p, normal))
-            .collect();
-        for (&(k, p, normal), _) in drawn.iter().zip(&shown).filter(|(_, s)| **s) {
+        for (k, p, normal) in drawn {
             let object = &objects[k];
             out.points.push(p);
             out.normals.push(normal);
@@ -205,6 +224,47 @@ pub(crate) fn faces(p: Vec3, n: Vec3, eye: Vec3, cos: f32) -> bool {
     n.dot((eye - p).normalize()) >= cos
 }
 
+/// The overlap of views: for views A and B (each a list of exact surface points, world), the
+/// share of A's points on the motor (those with a sample of `surface` within `radius`) with a
+/// sample within `radius` that lies within `radius` of one of B's points. `out[a][b]`; 1 on the
+/// diagonal (for a view with motor points), 0 for views that share no surface.
+pub fn overlap(surface: &Surface, views: &[Vec<Vec3>], radius: f32) -> Vec<Vec<f32>> {
+    let samples = Grid::new(&surface.points, radius);
+    // per view, the samples it measured near
+    let measured: Vec<Vec<bool>> = views
+        .iter()
+        .map(|points| {
+            let grid = Grid::new(points, radius);
+            surface
+                .points
+                .par_iter()
+                .map(|&s| grid.any_within(points, s, radius))
+                .collect()
+        })
+        .collect();
+    views
+        .iter()
+        .map(|points| {
+            // each motor point's samples
+            let near: Vec<Vec<u32>> = points
+                .par_iter()
+                .map(|&p| samples.within(&surface.points, p, radius).collect())
+                .filter(|v: &Vec<u32>| !v.is_empty())
+                .collect();
+            measured
+                .iter()
+                .map(|seen| {
+                    let shared = near
+                        .iter()
+                        .filter(|v| v.iter().any(|&i| seen[i as usize]))
+                        .count();
+                    shared as f32 / near.len().max(1) as f32
+                })
+                .collect()
+        })
+        .collect()
+}
+
 /// Points binned in cubes of a given size, to find those near a point.
 struct Grid {
     size: f32,
@@ -221,6 +281,25 @@ impl Grid {
             .collect();
         items.sort_unstable();
         Grid { size, items }
+    }
+
+    /// The indices of the points of `points` within `radius` (at most the cell size) of `p`.
+    fn within<'a>(
+        &'a self,
+        points: &'a [Vec3],
+        p: Vec3,
+        radius: f32,
+    ) -> impl Iterator<Item = u32> + 'a {
+        let c = cell(p, self.size);
+        (0..27).flat_map(move |n| {
+            let k = key(c + glam::IVec3::new(n % 3 - 1, n / 3 % 3 - 1, n / 9 - 1));
+            let from = self.items.partition_point(|e| e.0 < k);
+            self.items[from..]
+                .iter()
+                .take_while(move |e| e.0 == k)
+                .filter(move |e| points[e.1 as usize].distance_squared(p) <= radius * radius)
+                .map(|e| e.1)
+        })
     }
 
     /// Whether a point of `points` lies within `radius` (at most the cell size) of `p`.
@@ -331,6 +410,7 @@ mod tests {
             motor_to_world: Affine3A::IDENTITY,
             motor_centre: Vec3::ZERO,
             fixture: Vec::new(),
+            clamping: crate::Clamping::default(),
         };
         let world = World::new(&cell.targets(Scheme::SynMotor));
         let up = if dir.y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
@@ -429,6 +509,41 @@ mod tests {
         assert_eq!(parts[0], (PartKind::GearContainer, 0.0));
         assert_eq!(parts[1].0, PartKind::Cover);
         assert!((parts[1].1 - 1.0 / 6.0).abs() < 0.02, "{parts:?}");
+    }
+
+    /// The exact points of a scan, world.
+    fn exact(scan: &Scan) -> Vec<Vec3> {
+        scan.pixels
+            .iter()
+            .filter(|p| !p.clean.x.is_nan())
+            .map(|p| scan.pose.transform_point3(p.clean))
+            .collect()
+    }
+
+    #[test]
+    fn a_view_overlaps_itself_wholly_the_opposite_view_not_at_all() {
+        let objects = [cube()];
+        let surface = Surface::sample_all(&objects, 4e5, 2);
+        let view_from = |dir: Vec3| exact(&view(&objects, dir.normalize()).0);
+        let views = [
+            view_from(Vec3::Z),
+            view_from(Vec3::NEG_Z),
+            view_from(Vec3::new(1.0, 0.0, 1.0)),
+            view_from(Vec3::Z),
+        ];
+        let o = overlap(&surface, &views, 0.0025);
+        eprintln!("{o:?}");
+        for (a, row) in o.iter().enumerate() {
+            assert_eq!(row[a], 1.0);
+            assert!(row.iter().all(|x| (0.0..=1.0).contains(x)));
+        }
+        // top and bottom share nothing; the same view again shares everything
+        assert_eq!((o[0][1], o[1][0]), (0.0, 0.0));
+        assert_eq!((o[0][3], o[3][0]), (1.0, 1.0));
+        // at 45° the camera sees the top and the +x face equally: half its points are the top's,
+        // and all of the top view's points are seen from there
+        assert!((o[2][0] - 0.5).abs() < 0.05, "{}", o[2][0]);
+        assert!(o[0][2] > 0.95, "{}", o[0][2]);
     }
 
     /// A motor's parts as cell objects, in the motor's frame.

@@ -655,7 +655,7 @@ fn read_all_rows(out: &Path) -> Result<BTreeMap<u64, Row>> {
 /// Why `sample` holds no point: the sensor's range against the nearest surface in view.
 fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
     let sensor = &sample.sensor;
-    let world = sensor::World::new(&sample.cell.targets(recipe.config.output.scheme));
+    let scheme = recipe.config.output.scheme;
     let range = format!(
         "the sensor ({}) measures depths (camera z) from {} to {} m",
         sensor.name, sensor.min_range, sensor.max_range
@@ -663,7 +663,10 @@ fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
     let nearest = sample
         .views
         .iter()
-        .filter_map(|v| sensor::nearest_surface(&world, sensor, &v.pose))
+        .filter_map(|v| {
+            let world = sensor::World::new(&sample.cell_of(v).targets(scheme));
+            sensor::nearest_surface(&world, sensor, &v.pose)
+        })
         .min_by(f32::total_cmp);
     let what = match nearest {
         None => format!("{range}, and no surface is in view; check camera"),

@@ -10,7 +10,7 @@ use sensor::{Frame, Material, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
 use crate::augment::{Level, Split};
-use crate::config::Variant;
+use crate::config::{Clamping, Variant};
 
 /// A row-major 4×4 matrix.
 pub type Matrix = [[f32; 4]; 4];
@@ -89,12 +89,23 @@ pub struct ViewJson {
     pub camera_to_world: Matrix,
     /// The motor's pose in the camera frame.
     pub motor_to_camera: Matrix,
+    /// With `cell.reclamp`: the clamping this view was taken in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clamping: Option<Clamping>,
+    /// With `cell.reclamp`: the motor's pose in this view's cell (the motor's pose change
+    /// between two views is the one's times the other's inverse).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub motor_to_world: Option<Matrix>,
     /// This camera's pose in the first view's camera frame (registration ground truth).
     pub camera_to_first_camera: Matrix,
     /// Seed of the scan's per-pixel noise.
     pub noise_seed: u64,
     /// Points in the view's cropped cloud.
     pub points: usize,
+    /// Per view k, the share of this view's motor points whose surface view k also measured
+    /// (`output.overlap`; 1 for itself).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub overlap: Option<Vec<f32>>,
     /// The view's files, relative to the dataset folder.
     pub files: Vec<String>,
 }

@@ -11,8 +11,9 @@ use rand_chacha::ChaCha8Rng;
 use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Split, assign};
-use crate::cell::{Cell, Variation, compose};
-use crate::config::{Colouring, Config, CropConfig, Variant};
+use crate::cell::{Cell, Variation, compose, transform_box};
+use crate::config::{Clamping, Colouring, Config, CropConfig, Variant};
+use crate::coverage::{Surface, overlap};
 use crate::error::Result;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson};
 use crate::rig::camera_poses;
@@ -36,6 +37,8 @@ pub(crate) enum Seed {
     Cover,
     /// The inspection station's surface samples.
     Surface,
+    /// The cell of the other clamping (`cell.reclamp`).
+    Reclamp,
     /// View `k`'s scan.
     Scan(u64),
     /// View `k`'s jitter after cropping.
@@ -53,6 +56,7 @@ impl Seed {
             Seed::NoiseScale => 4,
             Seed::Cover => 5,
             Seed::Surface => 6,
+            Seed::Reclamp => 7,
             Seed::Scan(k) => 100 + k,
             Seed::Jitter(k) => 200 + k,
         };
@@ -156,6 +160,8 @@ impl Recipe {
 pub struct View {
     /// Camera-to-world pose.
     pub pose: Affine3A,
+    /// Taken of the cell in the other clamping (`cell.reclamp`, odd views).
+    pub reclamped: bool,
     /// Seed of the scan's per-pixel noise.
     pub noise_seed: u64,
     /// Points inside the crop box, in the output frame and units.
@@ -183,6 +189,8 @@ pub struct Sample {
     pub motor: Motor,
     /// The cell it lies in.
     pub cell: Cell,
+    /// The cell of the other clamping, the odd views' (`cell.reclamp`).
+    pub reclamped: Option<Cell>,
     /// Whether cover and cover bolts were removed.
     pub cover_removed: bool,
     /// Crop box, world.
@@ -193,6 +201,9 @@ pub struct Sample {
     pub noise_scale: f32,
     /// The views.
     pub views: Vec<View>,
+    /// Per view, the share of its motor points whose surface each view measured
+    /// (`output.overlap`; see [`overlap`]).
+    pub overlap: Option<Vec<Vec<f32>>>,
 }
 
 /// The crop box around `centre`, each face drawn from its span.
@@ -240,17 +251,21 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let (variant, level, split) = recipe.placement(index);
     let cover_removed = Seed::Cover.rng(seed).random::<f32>() < config.motor.cover_removed;
     let lc = level.config(&config.augment);
-    let cell = compose(
-        &motor,
-        &config.cell,
-        Variation {
-            occluders: lc.occluders,
-            fixture_shift: lc.fixture_shift,
-            cover_removed,
-            clamping: config.cell.clamping,
-        },
-        &mut Seed::Cell.rng(seed),
-    );
+    let vary = Variation {
+        occluders: lc.occluders,
+        fixture_shift: lc.fixture_shift,
+        cover_removed,
+        clamping: config.cell.clamping,
+    };
+    let cell = compose(&motor, &config.cell, vary, &mut Seed::Cell.rng(seed));
+    let reclamped = config.cell.reclamp.then(|| {
+        let other = Clamping::ALL.into_iter().find(|&c| c != vary.clamping);
+        let vary = Variation {
+            clamping: other.expect("two clampings"),
+            ..vary
+        };
+        compose(&motor, &config.cell, vary, &mut Seed::Reclamp.rng(seed))
+    });
     let crop = crop_box(&config.crop, cell.motor_centre, &mut Seed::Crop.rng(seed));
     let poses = camera_poses(
         &config.camera,
@@ -262,7 +277,11 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let mut sensor = recipe.sensor.clone();
     sensor.noise = sensor.noise.scaled(noise_scale);
 
-    let world = World::new(&cell.targets(config.output.scheme));
+    let cells: Vec<&Cell> = std::iter::once(&cell).chain(&reclamped).collect();
+    let worlds: Vec<World> = cells
+        .iter()
+        .map(|c| World::new(&c.targets(config.output.scheme)))
+        .collect();
     let out = &config.output;
     let whole = out.scene_cloud || out.images;
     let views = poses
@@ -270,13 +289,34 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         .enumerate()
         .map(|(v, pose)| {
             let noise_seed = Seed::Scan(v as u64).of(seed);
+            // a reclamped view: the pose moved with the motor's centre, the crop box with the
+            // motor (the box round the first box turned as the motor turned)
+            let k = v % cells.len();
+            let moved = cells[k].motor_to_world * cell.motor_to_world.inverse();
+            let shift = cells[k].motor_centre - cell.motor_centre;
+            let pose = Affine3A::from_translation(shift) * pose;
+            let crop = if k == 0 {
+                crop
+            } else {
+                transform_box(&crop, &moved)
+            };
+            let world = &worlds[k];
             // unless the whole scene is wanted, only pixels whose rays cross the crop box, so
             // cropping loses nothing
             let region = (!whole).then(|| region_around(&crop, &pose, &sensor));
             let buffer = PIXELS.take();
-            let s = scan_reusing(&world, &sensor, &pose, noise_seed, region.as_ref(), buffer);
+            let s = scan_reusing(world, &sensor, &pose, noise_seed, region.as_ref(), buffer);
             let mut jitter = Seed::Jitter(v as u64).rng(seed);
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
+            // exact points in the first cell's frame, the motor moved back
+            let to_first = cell.motor_to_world * cells[k].motor_to_world.inverse();
+            let exact = out.overlap.then(|| {
+                let mut points = cropped_exact(&s, &crop, out.clean);
+                points
+                    .iter_mut()
+                    .for_each(|p| *p = to_first.transform_point3(*p));
+                points
+            });
             let to_frame = out.frame.from_camera(&pose);
             let scene_cloud = out
                 .scene_cloud
@@ -287,15 +327,23 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
                 PIXELS.set(s.pixels);
                 None
             };
-            View {
+            let view = View {
                 pose,
+                reclamped: k == 1,
                 noise_seed,
                 cloud: cloud.transformed(&to_frame, out.units),
                 scene_cloud,
                 scan,
-            }
+            };
+            (view, exact)
         })
-        .collect();
+        .collect::<Vec<_>>();
+    let (views, exact): (Vec<View>, Vec<Option<Vec<Vec3>>>) = views.into_iter().unzip();
+    let overlap = out.overlap.then(|| {
+        let surface = Surface::sample_all(&cell.objects, OVERLAP_DENSITY, Seed::Surface.of(seed));
+        let exact: Vec<Vec<Vec3>> = exact.into_iter().flatten().collect();
+        overlap(&surface, &exact, OVERLAP_RADIUS)
+    });
     Ok(Sample {
         index,
         seed,
@@ -304,11 +352,13 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         split,
         motor,
         cell,
+        reclamped,
         cover_removed,
         crop,
         sensor,
         noise_scale,
         views,
+        overlap,
     })
 }
 
@@ -335,12 +385,7 @@ fn cropped(
     rng: &mut impl Rng,
 ) -> PointCloud {
     let mut out = scan.points_where(|p| {
-        let q = if clean { p.clean } else { p.point };
-        if q.x.is_nan() {
-            return None;
-        }
-        let w = scan.pose.transform_point3(q);
-        (w.cmpge(crop.min).all() && w.cmple(crop.max).all()).then_some(q)
+        in_crop(scan, crop, clean, p).then_some(if clean { p.clean } else { p.point })
     });
     if jitter.iter().any(|&j| j > 0.0) {
         let j = Vec3::from(jitter);
@@ -352,12 +397,44 @@ fn cropped(
     out
 }
 
+/// Whether pixel `p`'s point (the measured one, or the exact one with `clean`) lies in `crop`
+/// (world).
+fn in_crop(scan: &Scan, crop: &Aabb, clean: bool, p: &Pixel) -> bool {
+    let q = if clean { p.clean } else { p.point };
+    let w = scan.pose.transform_point3(q);
+    !q.x.is_nan() && w.cmpge(crop.min).all() && w.cmple(crop.max).all()
+}
+
+/// The exact surface points (world) of the pixels whose points `cropped` keeps.
+fn cropped_exact(scan: &Scan, crop: &Aabb, clean: bool) -> Vec<Vec3> {
+    let exact = scan.points_where(|p| {
+        (in_crop(scan, crop, clean, p) && !p.clean.x.is_nan()).then_some(p.clean)
+    });
+    exact
+        .xyz
+        .into_iter()
+        .map(|c| scan.pose.transform_point3(c))
+        .collect()
+}
+
+/// Surface samples per m² and the radius, m, of the views' overlap (`output.overlap`).
+const OVERLAP_DENSITY: f32 = 4e5;
+const OVERLAP_RADIUS: f32 = 0.0025;
+
 /// Row-major 4×4 matrix.
 pub fn matrix(t: &Affine3A) -> [[f32; 4]; 4] {
     Mat4::from(*t).transpose().to_cols_array_2d()
 }
 
 impl Sample {
+    /// The cell `view` was taken of.
+    pub fn cell_of(&self, view: &View) -> &Cell {
+        match (&self.reclamped, view.reclamped) {
+            (Some(other), true) => other,
+            _ => &self.cell,
+        }
+    }
+
     /// The file-name stem: index, variant and level, e.g. `000012_A1_noisy`.
     pub fn stem(&self) -> String {
         let variant = self.variant.map_or("motor".into(), |v| format!("{v:?}"));
@@ -374,12 +451,19 @@ impl Sample {
             .views
             .iter()
             .zip(files)
-            .map(|(v, files)| ViewJson {
+            .enumerate()
+            .map(|(k, (v, files))| ViewJson {
                 camera_to_world: matrix(&v.pose),
-                motor_to_camera: matrix(&(v.pose.inverse() * self.cell.motor_to_world)),
+                motor_to_camera: matrix(&(v.pose.inverse() * self.cell_of(v).motor_to_world)),
+                clamping: self.reclamped.as_ref().map(|_| self.cell_of(v).clamping),
+                motor_to_world: self
+                    .reclamped
+                    .as_ref()
+                    .map(|_| matrix(&self.cell_of(v).motor_to_world)),
                 camera_to_first_camera: matrix(&(first.inverse() * v.pose)),
                 noise_seed: v.noise_seed,
                 points: v.cloud.len(),
+                overlap: self.overlap.as_ref().map(|o| o[k].clone()),
                 files: files.clone(),
             })
             .collect();

@@ -5,12 +5,14 @@ use glam::{Affine3A, Vec3};
 use motorgen::PartKind;
 use motorgen::kernel::Aabb;
 use rayon::prelude::*;
-use sensor::{Pixel, SensorSpec, World, scan_reusing};
+use sensor::{Pixel, PointCloud, SensorSpec, Units, World, scan_reusing};
 
 use crate::cell::{Cell, Variation, compose, transform_box};
+use crate::config::CameraConfig;
 use crate::config::Clamping;
 use crate::coverage::{Rule, Surface, coverage, faces, observe};
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::rig::camera_poses;
 use crate::sample::{Recipe, Seed, region_around};
 
 /// How far beyond the motor's box measured points are kept, m.
@@ -18,23 +20,21 @@ const MARGIN: f32 = 0.01;
 
 /// One motor in the fixture and the views taken of it so far.
 pub struct Station {
+    /// The motor's variant (A0 ... B1).
+    pub variant: &'static str,
     /// The cell: the motor, clamped, on the table, without panels or fixture shifts.
     pub cell: Cell,
     /// The motor's surface, sampled.
     pub surface: Surface,
     /// Which samples the views so far observe.
     pub seen: Vec<bool>,
-    /// The measured points near the motor (in its box grown by 1 cm), world, m.
-    pub points: Vec<Vec3>,
-    /// Each point's surface normal, world.
-    pub normals: Vec<Vec3>,
-    /// Each point's view, from 0.
-    pub views: Vec<u32>,
+    /// Each view's measured points near the motor (in its box grown by 1 cm), world, m,
+    /// labelled with the configuration's scheme.
+    pub clouds: Vec<PointCloud>,
     sensor: SensorSpec,
     world: World,
     rule: Rule,
     seed: u64,
-    taken: u32,
     near: Aabb,
     buffer: Vec<Pixel>,
 }
@@ -54,8 +54,9 @@ impl Station {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this index
-    /// do not form a valid motor.
+    /// [`Error::Config`] for a density outside 10³ to 10⁷ per m², a
+    /// radius outside 0.1 to 50 mm, an angle outside 1 to 90°, or motor parameters drawn for
+    /// this index that do not form a valid motor.
     pub fn new(
         recipe: &Recipe,
         index: u64,
@@ -63,6 +64,16 @@ impl Station {
         density: f32,
         rule: Rule,
     ) -> Result<Station> {
+        for (key, value, range, unit) in [
+            ("density", density, 1e3..=1e7, " per m²"),
+            ("radius", rule.radius, 1e-4..=0.05, " m"),
+            ("max_angle", rule.max_angle_deg, 1.0..=90.0, "°"),
+        ] {
+            if !range.contains(&value) {
+                let allowed = format!("{} to {}{unit}", range.start(), range.end());
+                return Err(Error::invalid(key, value, allowed));
+            }
+        }
         let (seed, motor) = recipe.motor(index)?;
         let vary = Variation {
             occluders: false,
@@ -75,16 +86,14 @@ impl Station {
         let world = World::new(&cell.targets(recipe.config.output.scheme));
         let bounds = transform_box(&motor.attributes.bounds, &cell.motor_to_world);
         Ok(Station {
+            variant: motor.attributes.variant,
             seen: vec![false; surface.len()],
             surface,
-            points: Vec::new(),
-            normals: Vec::new(),
-            views: Vec::new(),
+            clouds: Vec::new(),
             sensor: recipe.sensor().clone(),
             world,
             rule,
             seed,
-            taken: 0,
             near: Aabb {
                 min: bounds.min - MARGIN,
                 max: bounds.max + MARGIN,
@@ -99,9 +108,15 @@ impl Station {
         &self.sensor
     }
 
+    /// The poses of `camera`'s rig for this station's motor (sample `index`'s draws).
+    pub fn rig_poses(&self, camera: &CameraConfig, index: u64) -> Vec<Affine3A> {
+        let centre = self.cell.motor_centre;
+        camera_poses(camera, centre, index, &mut Seed::Camera.rng(self.seed))
+    }
+
     /// How many views were taken.
     pub fn taken(&self) -> u32 {
-        self.taken
+        self.clouds.len() as u32
     }
 
     /// Takes a view from `pose` (camera to world): scans the cell (the noise drawn from the
@@ -110,7 +125,7 @@ impl Station {
     pub fn capture(&mut self, pose: &Affine3A) -> Capture {
         let region = region_around(&self.near, pose, &self.sensor);
         let buffer = std::mem::take(&mut self.buffer);
-        let seed = Seed::Scan(u64::from(self.taken)).of(self.seed);
+        let seed = Seed::Scan(u64::from(self.taken())).of(self.seed);
         let scan = scan_reusing(&self.world, &self.sensor, pose, seed, Some(&region), buffer);
         let before = self.seen.iter().filter(|&&s| s).count();
         observe(
@@ -121,20 +136,16 @@ impl Station {
             &mut self.seen,
         );
         let after = self.seen.iter().filter(|&&s| s).count();
-        let kept = self.points.len();
-        for p in scan.pixels.iter().filter(|p| p.is_valid()) {
+        let near = &self.near;
+        let cloud = scan.points_where(|p| {
             let w = pose.transform_point3(p.point);
-            if w.cmpge(self.near.min).all() && w.cmple(self.near.max).all() {
-                self.points.push(w);
-                self.normals.push(pose.transform_vector3(p.normal));
-                self.views.push(self.taken);
-            }
-        }
+            (p.is_valid() && w.cmpge(near.min).all() && w.cmple(near.max).all()).then_some(p.point)
+        });
         self.buffer = scan.pixels;
-        self.taken += 1;
+        self.clouds.push(cloud.transformed(pose, Units::Metres));
         Capture {
             gain: (after - before) as f32 / self.surface.len().max(1) as f32,
-            points: self.points.len() - kept,
+            points: self.clouds.last().map_or(0, PointCloud::len),
         }
     }
 
@@ -247,10 +258,13 @@ mod tests {
             for pose in views(s.cell.motor_centre).iter().take(3) {
                 s.capture(pose);
             }
-            (s.surface, s.seen, s.points, s.views)
+            (s.surface, s.seen, s.clouds)
         };
         let (a, b) = (take(), take());
-        assert!(a.2.len() > 1000);
+        assert!(
+            a.2.iter()
+                .all(|c| c.len() > 1000 && c.class.iter().any(|&k| k > 0))
+        );
         assert_eq!(a, b);
         // the motor is the one `generate` makes for that index
         let other = Station::new(&recipe, 5, Clamping::PolePotUp, 1e5, RULE).unwrap();

@@ -286,6 +286,133 @@ fn a_sample_json_reads_back_as_written() {
     );
 }
 
+#[test]
+fn registration_pairs_record_their_overlap() {
+    let table = scene::config::builtin_table("registration").unwrap();
+    let out = std::env::temp_dir().join("never-written");
+    let dataset = scene::Dataset::new(table, None, None, scene::Shard::ALL, &out).unwrap();
+    for index in 0..4 {
+        let recipe = dataset.recipe(index).unwrap();
+        let sample = scene::make(&recipe, index).unwrap();
+        let files = vec![Vec::new(); sample.views.len()];
+        let doc = sample.json(&recipe, &files);
+        let rows = overlaps(&doc);
+        eprintln!("sample {index}: {rows:?}");
+        assert_eq!(rows.len(), 2);
+        for (a, row) in rows.iter().enumerate() {
+            assert_eq!(row.len(), 2);
+            assert_eq!(row[a], 1.0);
+            assert!(row.iter().all(|x| (0.5..=1.0).contains(x)), "{row:?}");
+        }
+    }
+    // off unless asked for: the default dataset's JSON has no overlap
+    let default = scene::Dataset::new(
+        scene::config::builtin_table("default").unwrap(),
+        None,
+        None,
+        scene::Shard::ALL,
+        &out,
+    )
+    .unwrap();
+    let recipe = default.recipe(0).unwrap();
+    let sample = scene::make(&recipe, 0).unwrap();
+    assert!(sample.overlap.is_none());
+    assert!(
+        !sample
+            .json(&recipe, &[Vec::new()])
+            .to_text()
+            .contains("overlap")
+    );
+}
+
+#[test]
+fn reclamped_views_carry_the_motors_pose_in_their_own_cell() {
+    let mut table = scene::config::builtin_table("registration").unwrap();
+    for (key, value) in [
+        ("cell.reclamp", toml::Value::Boolean(true)),
+        ("output.clean", true.into()),
+        ("sensor.sampling", "by4x4".into()),
+        ("camera.views", 3.into()),
+    ] {
+        scene::set_key(&mut table, key, value).unwrap();
+    }
+    let out = std::env::temp_dir().join("never-written");
+    let dataset = scene::Dataset::new(table, None, None, scene::Shard::ALL, &out).unwrap();
+    for index in 0..3 {
+        let recipe = dataset.recipe(index).unwrap();
+        let sample = scene::make(&recipe, index).unwrap();
+        let doc = sample.json(&recipe, &vec![Vec::new(); 3]);
+        let clampings: Vec<_> = doc.views.iter().map(|v| v.clamping.unwrap()).collect();
+        assert_eq!(
+            clampings,
+            [
+                Clamping::GearContainerUp,
+                Clamping::PolePotUp,
+                Clamping::GearContainerUp
+            ]
+        );
+        let bounds = sample.motor.attributes.bounds;
+        for (v, view) in sample.views.iter().zip(&doc.views) {
+            // every motor point, taken back to the motor frame by its view's ground truth, lies
+            // on the motor
+            let to_motor = matrix(&view.motor_to_camera).inverse();
+            let motor_points: Vec<Vec3> = v
+                .cloud
+                .xyz
+                .iter()
+                .zip(&v.cloud.class)
+                .filter(|(_, c)| **c > 0)
+                .map(|(p, _)| to_motor.transform_point3(*p))
+                .collect();
+            assert!(motor_points.len() > 1000, "{}", motor_points.len());
+            for p in motor_points {
+                assert!(
+                    p.cmpge(bounds.min - 1e-3).all() && p.cmple(bounds.max + 1e-3).all(),
+                    "sample {index}: {p} off the motor"
+                );
+            }
+            let world = matrix(&view.motor_to_world.unwrap());
+            assert!(world.abs_diff_eq(glam::Mat4::from(sample.cell_of(v).motor_to_world), 1e-6));
+        }
+        // the two clampings' motor poses differ by a quarter turn, less the pose jitter (over
+        // 60°: the trace of the turn under 1 + 2 cos 60°)
+        let (a, b) = (
+            &sample.cell.motor_to_world,
+            &sample.reclamped.as_ref().unwrap().motor_to_world,
+        );
+        let turn = (a.matrix3 * b.matrix3.transpose()).to_cols_array();
+        let trace = turn[0] + turn[4] + turn[8];
+        assert!(trace < 2.0, "{trace}");
+        let overlap = overlaps(&doc);
+        eprintln!("sample {index}: overlap {overlap:?}");
+        assert!((0..3).all(|k| overlap[k][k] == 1.0));
+    }
+    // a reclamping needs two views
+    let mut one = scene::config::builtin_table("registration").unwrap();
+    scene::set_key(&mut one, "cell.reclamp", true.into()).unwrap();
+    scene::set_key(&mut one, "camera.views", 1.into()).unwrap();
+    let Err(e) = scene::Dataset::new(one, None, None, scene::Shard::ALL, &out) else {
+        panic!("reclamp with one view accepted")
+    };
+    assert!(
+        e.to_string().contains("camera.views = 1 is not allowed"),
+        "{e}"
+    );
+}
+
+/// Each view's overlap row of a sample's JSON.
+fn overlaps(doc: &scene::SampleJson) -> Vec<Vec<f32>> {
+    doc.views
+        .iter()
+        .map(|v| v.overlap.clone().unwrap())
+        .collect()
+}
+
+/// A row-major matrix of a sample's JSON as a glam matrix.
+fn matrix(m: &[[f32; 4]; 4]) -> glam::Mat4 {
+    glam::Mat4::from_cols_array_2d(m).transpose()
+}
+
 /// The default dataset's colours come from the camera, not the labels: the gear container and
 /// the cover share a plastic, so their rgb tells them apart no better than chance would, and
 /// every class shows many colours.

@@ -131,6 +131,13 @@ impl Config {
         if !(1..=64).contains(&c.views) {
             return Err(Error::invalid("camera.views", c.views, "1 to 64"));
         }
+        if self.cell.reclamp && c.views < 2 {
+            return Err(Error::invalid(
+                "camera.views",
+                c.views,
+                "2 or more with cell.reclamp = true (odd views in the other clamping)",
+            ));
+        }
         c.distance.check("camera.distance", 0.05, 20.0)?;
         c.tilt_deg.check("camera.tilt_deg", 0.0, 90.0)?;
         c.azimuth_deg.check("camera.azimuth_deg", -720.0, 720.0)?;

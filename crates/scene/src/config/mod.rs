@@ -218,6 +218,9 @@ pub struct CellConfig {
     pub clearance: f32,
     /// How the motor lies in the fixture.
     pub clamping: Clamping,
+    /// Views alternate between the two setups: even views in `clamping`, odd views in the
+    /// other (registration across a reclamping).
+    pub reclamp: bool,
     /// Fixture shifts.
     pub fixture: FixtureConfig,
     /// Occluding panels.
@@ -399,6 +402,9 @@ pub struct OutputConfig {
     pub images: bool,
     /// What the points' rgb holds.
     pub colour: Colouring,
+    /// Also record, for every pair of views, the share of each view's motor points whose
+    /// surface the other view also measured (registration pairs' overlap).
+    pub overlap: bool,
 }
 
 /// What the points' rgb holds.

@@ -38,6 +38,21 @@ fn array<T: Copy, const N: usize>(
     })
 }
 
+/// Writes a 1-D NPY array of int32 `values`.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_npy_i32(w: &mut dyn Write, values: &[i32]) -> Result<()> {
+    array(
+        w,
+        "<i4",
+        &[values.len()],
+        values.iter().copied(),
+        i32::to_le_bytes,
+    )
+}
+
 /// Writes the SynMotor training layout: float32 N×7 `x y z r g b label`, the points' colours
 /// 0..1.
 ///
