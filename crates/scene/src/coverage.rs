@@ -186,8 +186,14 @@ pub struct Rule {
 }
 
 /// Marks in `seen` the samples of `surface` that `scan` (taken by `sensor`) observes under
-/// `rule`; `seen` only gains samples.
-pub fn observe(surface: &Surface, scan: &Scan, sensor: &SensorSpec, rule: Rule, seen: &mut [bool]) {
+/// `rule`; `seen` only gains samples. Returns how many it gained.
+pub fn observe(
+    surface: &Surface,
+    scan: &Scan,
+    sensor: &SensorSpec,
+    rule: Rule,
+    seen: &mut [bool],
+) -> usize {
     let pose: Affine3A = scan.pose;
     let camera = Vec3::from(pose.translation);
     let projector = sensor
@@ -210,13 +216,17 @@ pub fn observe(surface: &Surface, scan: &Scan, sensor: &SensorSpec, rule: Rule, 
         .collect();
     let grid = Grid::new(&points, rule.radius);
     let cos = rule.max_angle_deg.to_radians().cos();
-    seen.par_iter_mut().enumerate().for_each(|(i, s)| {
-        let (p, n) = (surface.points[i], surface.normals[i]);
-        *s = *s
-            || faces(p, n, camera, cos)
+    seen.par_iter_mut()
+        .enumerate()
+        .filter(|(_, s)| !**s)
+        .map(|(i, s)| {
+            let (p, n) = (surface.points[i], surface.normals[i]);
+            *s = faces(p, n, camera, cos)
                 && projector.is_none_or(|l| faces(p, n, l, cos))
                 && grid.any_within(&points, p, rule.radius);
-    });
+            usize::from(*s)
+        })
+        .sum()
 }
 
 /// Whether the surface at `p` with normal `n` faces `eye` within the angle whose cosine is `cos`.
@@ -242,23 +252,24 @@ pub fn overlap(surface: &Surface, views: &[Vec<Vec3>], radius: f32) -> Vec<Vec<f
                 .collect()
         })
         .collect();
+    let has_sample = |p: Vec3, seen: Option<&[bool]>| {
+        samples
+            .within(&surface.points, p, radius)
+            .any(|i| seen.is_none_or(|seen| seen[i as usize]))
+    };
     views
         .iter()
         .map(|points| {
-            // each motor point's samples
-            let near: Vec<Vec<u32>> = points
-                .par_iter()
-                .map(|&p| samples.within(&surface.points, p, radius).collect())
-                .filter(|v: &Vec<u32>| !v.is_empty())
-                .collect();
+            // the motor's points: those with a sample near
+            let motor = points.par_iter().filter(|&&p| has_sample(p, None)).count();
             measured
                 .iter()
                 .map(|seen| {
-                    let shared = near
-                        .iter()
-                        .filter(|v| v.iter().any(|&i| seen[i as usize]))
+                    let shared = points
+                        .par_iter()
+                        .filter(|&&p| has_sample(p, Some(seen)))
                         .count();
-                    shared as f32 / near.len().max(1) as f32
+                    shared as f32 / motor.max(1) as f32
                 })
                 .collect()
         })
@@ -304,23 +315,7 @@ impl Grid {
 
     /// Whether a point of `points` lies within `radius` (at most the cell size) of `p`.
     fn any_within(&self, points: &[Vec3], p: Vec3, radius: f32) -> bool {
-        let c = cell(p, self.size);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let k = key(c + glam::IVec3::new(dx, dy, dz));
-                    let from = self.items.partition_point(|e| e.0 < k);
-                    let hit = self.items[from..]
-                        .iter()
-                        .take_while(|e| e.0 == k)
-                        .any(|e| points[e.1 as usize].distance_squared(p) <= radius * radius);
-                    if hit {
-                        return true;
-                    }
-                }
-            }
-        }
-        false
+        self.within(points, p, radius).next().is_some()
     }
 }
 

@@ -8,8 +8,7 @@ use rayon::prelude::*;
 use sensor::{Pixel, PointCloud, SensorSpec, Units, World, scan_reusing};
 
 use crate::cell::{Cell, Variation, compose, transform_box};
-use crate::config::CameraConfig;
-use crate::config::Clamping;
+use crate::config::{CameraConfig, Clamping};
 use crate::coverage::{Rule, Surface, coverage, faces, observe};
 use crate::error::{Error, Result};
 use crate::rig::camera_poses;
@@ -127,15 +126,13 @@ impl Station {
         let buffer = std::mem::take(&mut self.buffer);
         let seed = Seed::Scan(u64::from(self.taken())).of(self.seed);
         let scan = scan_reusing(&self.world, &self.sensor, pose, seed, Some(&region), buffer);
-        let before = self.seen.iter().filter(|&&s| s).count();
-        observe(
+        let gained = observe(
             &self.surface,
             &scan,
             &self.sensor,
             self.rule,
             &mut self.seen,
         );
-        let after = self.seen.iter().filter(|&&s| s).count();
         let near = &self.near;
         let cloud = scan.points_where(|p| {
             let w = pose.transform_point3(p.point);
@@ -144,7 +141,7 @@ impl Station {
         self.buffer = scan.pixels;
         self.clouds.push(cloud.transformed(pose, Units::Metres));
         Capture {
-            gain: (after - before) as f32 / self.surface.len().max(1) as f32,
+            gain: gained as f32 / self.surface.len().max(1) as f32,
             points: self.clouds.last().map_or(0, PointCloud::len),
         }
     }
