@@ -11,7 +11,6 @@ mod triangle;
 
 use glam::{Vec3, Vec4};
 
-use traverse::InvRange;
 pub(crate) use traverse::lanes;
 use triangle::{Rays4, ShearedRay};
 
@@ -119,7 +118,7 @@ impl Bvh {
             v: 0.0,
         };
         let mut limit = t_max.next_up();
-        self.walk_one(origin, InvRange::one(dir), t_max, |slot, reach| {
+        self.walk_one(origin, dir, t_max, |slot, reach| {
             if let Some((t, u, v)) = ray.intersect(&self.tris[slot as usize], limit) {
                 let hit = Hit {
                     t,
@@ -201,7 +200,7 @@ impl Bvh {
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         let ray = ShearedRay::new(origin, dir);
         let mut blocked = false;
-        self.walk_one(origin, InvRange::one(dir), t_max, |slot, reach| {
+        self.walk_one(origin, dir, t_max, |slot, reach| {
             if ray.intersect(&self.tris[slot as usize], t_max).is_some() {
                 blocked = true;
                 *reach = -1.0; // done
@@ -236,7 +235,7 @@ impl Bvh {
         let ray = ShearedRay::new(origin, dir);
         let mut leaves = 0;
         let mut limit = t_max.next_up();
-        let nodes = self.walk_one(origin, InvRange::one(dir), t_max, |slot, reach| {
+        let nodes = self.walk_one(origin, dir, t_max, |slot, reach| {
             leaves += 1;
             if let Some((t, ..)) = ray.intersect(&self.tris[slot as usize], limit) {
                 *reach = t;

@@ -105,15 +105,15 @@ impl Bvh {
         walk(Stack { items, len: 0 })
     }
 
-    /// The walk of one ray from `origin` with inverse direction `inv`: what [`Bvh::walk`] does
-    /// for a packet with one live lane (the same box tests, in the same order), without a
-    /// packet's bookkeeping; `leaf(slot, reach)` tests a leaf's triangle and lowers `reach` on
+    /// The walk of one ray from `origin` along `dir`: what [`Bvh::walk`] does for a packet with
+    /// one live lane (the same box tests to the bit, in the same order), without a packet's
+    /// bookkeeping; `leaf(slot, reach)` tests a leaf's triangle and lowers `reach` on
     /// a hit (to 0 or less to end the walk). Returns the number of nodes visited.
     #[inline(always)]
     pub(super) fn walk_one(
         &self,
         origin: Vec3,
-        inv: InvRange,
+        dir: Vec3,
         t_max: f32,
         mut leaf: impl FnMut(u32, &mut f32),
     ) -> u32 {
@@ -121,14 +121,14 @@ impl Bvh {
         if self.nodes.is_empty() || reach <= 0.0 {
             return 0;
         }
-        let cone = Cone::new(origin, inv);
+        let slab = Slab::new(origin, dir);
         self.with_stack(|mut stack| {
             let mut cur = 0;
             let mut visited = 0;
             loop {
                 visited += 1;
                 let n = &self.nodes[cur as usize];
-                let (mut mask, near) = cone.enters(n, reach);
+                let (mut mask, near) = slab.enters(n, reach);
                 let base = stack.len;
                 while mask != 0 {
                     let c = mask.trailing_zeros() as usize;
@@ -241,11 +241,7 @@ impl Cone {
         let hi = Vec3::select(both, Vec3::ONE, range.hi).to_array();
         let backwards = range.hi.cmplt(Vec3::ZERO).bitmask();
         let axes = std::array::from_fn(|axis| {
-            let (near, far) = if backwards & (1 << axis) != 0 {
-                (axis + 3, axis)
-            } else {
-                (axis, axis + 3)
-            };
+            let (near, far) = bound_order(backwards & (1 << axis) != 0, axis);
             ConeAxis {
                 origin: Vec4::splat(o[axis]),
                 inv_lo: Vec4::splat(lo[axis]),
@@ -268,6 +264,64 @@ impl Cone {
             let d_far = n.bounds[a.far] - a.origin;
             near = near.max((d_near * a.inv_lo).min(d_near * a.inv_hi));
             far = far.min((d_far * a.inv_lo).max(d_far * a.inv_hi));
+        }
+        (near.cmple(far * WIDEN).bitmask(), near.to_array())
+    }
+}
+
+/// Which of a node's bounds (index into `Node4::bounds`) rays along `axis` meet first and last.
+#[inline(always)]
+fn bound_order(backwards: bool, axis: usize) -> (usize, usize) {
+    if backwards {
+        (axis + 3, axis)
+    } else {
+        (axis, axis + 3)
+    }
+}
+
+/// One ray's box test: a [`Cone`] of one ray, whose interval products collapse to one product
+/// per bound (the minimum and maximum of a value and itself are the value: the same result to
+/// the bit, at half the arithmetic).
+struct Slab {
+    axes: [SlabAxis; 3],
+}
+
+/// One axis of a [`Slab`].
+struct SlabAxis {
+    /// The origin's coordinate and the inverse direction component (splats).
+    origin: Vec4,
+    inv: Vec4,
+    /// Which of a node's bounds the ray meets first and last (index into `Node4::bounds`).
+    near: usize,
+    far: usize,
+}
+
+impl Slab {
+    #[inline(always)]
+    fn new(origin: Vec3, dir: Vec3) -> Slab {
+        let InvRange { lo: inv, .. } = InvRange::one(dir);
+        let (o, inv_a) = (origin.to_array(), inv.to_array());
+        let backwards = inv.cmplt(Vec3::ZERO).bitmask();
+        let axes = std::array::from_fn(|axis| {
+            let (near, far) = bound_order(backwards & (1 << axis) != 0, axis);
+            SlabAxis {
+                origin: Vec4::splat(o[axis]),
+                inv: Vec4::splat(inv_a[axis]),
+                near,
+                far,
+            }
+        });
+        Slab { axes }
+    }
+
+    /// As [`Cone::enters`].
+    #[inline(always)]
+    fn enters(&self, n: &Node4, reach: f32) -> (u32, [f32; 4]) {
+        let mut near = Vec4::ZERO;
+        let mut far = Vec4::splat(reach);
+        for a in &self.axes {
+            near = near.max((n.bounds[a.near] - a.origin) * a.inv);
+            far = far.min((n.bounds[a.far] - a.origin) * a.inv);
         }
         (near.cmple(far * WIDEN).bitmask(), near.to_array())
     }
