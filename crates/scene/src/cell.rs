@@ -121,6 +121,15 @@ fn corners(b: &Aabb) -> [Vec3; 8] {
     })
 }
 
+/// `b` turned as the motor turns from lying (gear container up) into `clamping`, about
+/// `centre`, the motor's centre (the nominal turn, without the pose jitter).
+pub(crate) fn turned_with_motor(b: &Aabb, motor: &Motor, clamping: Clamping, centre: Vec3) -> Aabb {
+    let lying = orientation(motor, Clamping::GearContainerUp);
+    let turn = Affine3A::from_mat3(orientation(motor, clamping) * lying.transpose());
+    let about = Affine3A::from_translation(centre) * turn * Affine3A::from_translation(-centre);
+    transform_box(b, &about)
+}
+
 /// The box of `b` moved by `t`.
 pub fn transform_box(b: &Aabb, t: &Affine3A) -> Aabb {
     corners(b).iter().fold(Aabb::EMPTY, |acc, &c| {

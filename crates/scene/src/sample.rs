@@ -11,7 +11,7 @@ use rand_chacha::ChaCha8Rng;
 use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Split, assign};
-use crate::cell::{Cell, Variation, compose, transform_box};
+use crate::cell::{Cell, Variation, compose, transform_box, turned_with_motor};
 use crate::config::{Clamping, Colouring, Config, CropConfig, Variant};
 use crate::coverage::{Surface, overlap};
 use crate::error::Result;
@@ -266,7 +266,12 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         };
         compose(&motor, &config.cell, vary, &mut Seed::Reclamp.rng(seed))
     });
+    // the crop's offsets are the lying motor's: in another clamping the box turns with it
     let crop = crop_box(&config.crop, cell.motor_centre, &mut Seed::Crop.rng(seed));
+    let crop = match vary.clamping {
+        Clamping::GearContainerUp => crop,
+        standing => turned_with_motor(&crop, &motor, standing, cell.motor_centre),
+    };
     let poses = camera_poses(
         &config.camera,
         cell.motor_centre,

@@ -325,6 +325,52 @@ fn registration_pairs_record_their_overlap() {
     );
 }
 
+/// The crop's offsets are the lying motor's: with the motor standing the box turns with it, and
+/// still holds the whole motor (untouched, the standing pole pot's end would be cut off).
+#[test]
+fn a_standing_motors_crop_turns_with_it_and_holds_it_whole() {
+    let mut table = scene::config::builtin_table("default").unwrap();
+    scene::set_key(&mut table, "cell.clamping", "pole-pot-up".into()).unwrap();
+    scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
+    let recipe = Recipe::new(Config::from_table(&table).unwrap(), Vec::new()).unwrap();
+    for index in 0..5 {
+        let sample = scene::make(&recipe, index).unwrap();
+        let motor = scene::cell::transform_box(
+            &sample.motor.attributes.bounds,
+            &sample.cell.motor_to_world,
+        );
+        assert!(
+            sample.crop.min.cmple(motor.min).all() && sample.crop.max.cmpge(motor.max).all(),
+            "sample {index}: crop {:?} cuts the motor {motor:?}",
+            sample.crop
+        );
+        // the box is the lying one turned: long along the motor's axis, now vertical
+        let size = sample.crop.size();
+        assert!(size.z > size.x && size.z > size.y, "sample {index}: {size}");
+        // the cloud reaches the motor's top (its highest vertex)
+        let highest = sample
+            .motor
+            .parts
+            .iter()
+            .flat_map(|p| &p.mesh.positions)
+            .map(|&v| sample.cell.motor_to_world.transform_point3(v).z)
+            .fold(f32::NEG_INFINITY, f32::max);
+        let to_world = sample.views[0].pose;
+        let top = sample.views[0]
+            .cloud
+            .xyz
+            .iter()
+            .zip(&sample.views[0].cloud.class)
+            .filter(|(_, c)| **c > 0)
+            .map(|(p, _)| to_world.transform_point3(*p).z)
+            .fold(f32::NEG_INFINITY, f32::max);
+        assert!(
+            top > highest - 0.003,
+            "sample {index}: top {top}, motor {highest}"
+        );
+    }
+}
+
 #[test]
 fn reclamped_views_carry_the_motors_pose_in_their_own_cell() {
     let mut table = scene::config::builtin_table("registration").unwrap();
