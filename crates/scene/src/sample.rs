@@ -8,6 +8,7 @@ use motorgen::kernel::Aabb;
 use motorgen::{Motor, ParamSpace, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Split, assign};
@@ -315,13 +316,9 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
             // exact points in the first cell's frame, the motor moved back
             let to_first = cell.motor_to_world * cells[k].motor_to_world.inverse();
-            let exact = out.overlap.then(|| {
-                let mut points = cropped_exact(&s, &crop, out.clean);
-                points
-                    .iter_mut()
-                    .for_each(|p| *p = to_first.transform_point3(*p));
-                points
-            });
+            let exact = out
+                .overlap
+                .then(|| cropped_exact(&s, &crop, out.clean, &to_first));
             let to_frame = out.frame.from_camera(&pose);
             let scene_cloud = out
                 .scene_cloud
@@ -410,15 +407,13 @@ fn in_crop(scan: &Scan, crop: &Aabb, clean: bool, p: &Pixel) -> bool {
     !q.x.is_nan() && w.cmpge(crop.min).all() && w.cmple(crop.max).all()
 }
 
-/// The exact surface points (world) of the pixels whose points `cropped` keeps.
-fn cropped_exact(scan: &Scan, crop: &Aabb, clean: bool) -> Vec<Vec3> {
-    let exact = scan.points_where(|p| {
-        (in_crop(scan, crop, clean, p) && !p.clean.x.is_nan()).then_some(p.clean)
-    });
-    exact
-        .xyz
-        .into_iter()
-        .map(|c| scan.pose.transform_point3(c))
+/// The exact surface points of the pixels whose points `cropped` keeps, in pixel order: in the
+/// world, then moved by `moved`.
+fn cropped_exact(scan: &Scan, crop: &Aabb, clean: bool, moved: &Affine3A) -> Vec<Vec3> {
+    scan.pixels
+        .par_iter()
+        .filter(|p| in_crop(scan, crop, clean, p) && !p.clean.x.is_nan())
+        .map(|p| moved.transform_point3(scan.pose.transform_point3(p.clean)))
         .collect()
 }
 

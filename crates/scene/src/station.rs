@@ -139,10 +139,11 @@ impl Station {
             (p.is_valid() && w.cmpge(near.min).all() && w.cmple(near.max).all()).then_some(p.point)
         });
         self.buffer = scan.pixels;
+        let points = cloud.len();
         self.clouds.push(cloud.transformed(pose, Units::Metres));
         Capture {
             gain: gained as f32 / self.surface.len().max(1) as f32,
-            points: self.clouds.last().map_or(0, PointCloud::len),
+            points,
         }
     }
 
