@@ -208,9 +208,8 @@ pub fn observe(
         });
     let (lo, hi) = (lo - rule.radius, hi + rule.radius);
     let points: Vec<Vec3> = scan
-        .pixels
-        .iter()
-        .filter(|p| p.is_valid())
+        .window_rows()
+        .flat_map_iter(|row| row.iter().filter(|p| p.is_valid()))
         .map(|p| pose.transform_point3(p.point))
         .filter(|w| w.cmpge(lo).all() && w.cmple(hi).all())
         .collect();

@@ -410,8 +410,8 @@ fn in_crop(scan: &Scan, crop: &Aabb, clean: bool, p: &Pixel) -> bool {
 /// The exact surface points of the pixels whose points `cropped` keeps, in pixel order: in the
 /// world, then moved by `moved`.
 fn cropped_exact(scan: &Scan, crop: &Aabb, clean: bool, moved: &Affine3A) -> Vec<Vec3> {
-    scan.pixels
-        .par_iter()
+    scan.window_rows()
+        .flat_map_iter(|row| row.iter())
         .filter(|p| in_crop(scan, crop, clean, p) && !p.clean.x.is_nan())
         .map(|p| moved.transform_point3(scan.pose.transform_point3(p.clean)))
         .collect()

@@ -68,7 +68,7 @@ fn raycast(c: &mut Criterion) {
                             .map(|d| {
                                 let d =
                                     std::array::from_fn(|g| std::array::from_fn(|k| d[4 * g + k]));
-                                let hits = bvh.cast_packet(eye, &d, &[[10.0; 4]; 4]);
+                                let hits = bvh.cast_packet(&[[eye; 4]; 4], &d, &[[10.0; 4]; 4]);
                                 hits.iter().flatten().filter(|h| h.is_some()).count()
                             })
                             .sum::<usize>()

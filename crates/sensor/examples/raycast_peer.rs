@@ -58,6 +58,9 @@ fn main() {
                         // order) as one packet, as a scan casts them
                         for (slots, rs) in o.chunks_mut(16).zip(rs.chunks(16)) {
                             let ray = |k: usize| rs.get(k).map(|r| r.1);
+                            let origins: [[Vec3; 4]; 4] = std::array::from_fn(|g| {
+                                std::array::from_fn(|l| rs.get(4 * g + l).map_or(rs[0].0, |r| r.0))
+                            });
                             let dirs: [[Vec3; 4]; 4] = std::array::from_fn(|g| {
                                 std::array::from_fn(|l| ray(4 * g + l).unwrap_or(Vec3::Z))
                             });
@@ -66,7 +69,7 @@ fn main() {
                                     ray(4 * g + l).map_or(0.0, |_| f32::INFINITY)
                                 })
                             });
-                            let hits = world.bvh().cast_packet(rs[0].0, &dirs, &t_max);
+                            let hits = world.bvh().cast_packet(&origins, &dirs, &t_max);
                             let dirs = dirs.iter().flatten();
                             for ((slot, h), &d) in
                                 slots.iter_mut().zip(hits.iter().flatten()).zip(dirs)

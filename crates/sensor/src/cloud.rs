@@ -107,15 +107,13 @@ impl Scan {
     }
 
     /// The pixels for which `point` gives a point (camera frame), with their normals, signal
-    /// and labels, in pixel order. Two parallel passes over runs of pixels: the first counts
-    /// each run's points, which places them; the second writes every column of them at once,
+    /// and labels, in pixel order. Two parallel passes over the window's rows: the first counts
+    /// each row's points, which places them; the second writes every column of them at once,
     /// into columns allocated to size.
     pub fn points_where(&self, point: impl Fn(&Pixel) -> Option<Vec3> + Sync) -> PointCloud {
-        const RUN: usize = 1 << 14;
         let counts: Vec<usize> = self
-            .pixels
-            .par_chunks(RUN)
-            .map(|run| run.iter().filter(|p| point(p).is_some()).count())
+            .window_rows()
+            .map(|row| row.iter().filter(|p| point(p).is_some()).count())
             .collect();
         let mut cloud = PointCloud::zeroed(counts.iter().sum());
         let (mut parts, mut rest) = (Vec::with_capacity(counts.len()), Columns::of(&mut cloud));
@@ -124,15 +122,12 @@ impl Scan {
             parts.push(part);
             rest = after;
         }
-        self.pixels
-            .par_chunks(RUN)
-            .zip(parts)
-            .for_each(|(run, mut part)| {
-                let kept = run.iter().filter_map(|p| Some((p, point(p)?)));
-                for (k, (p, q)) in kept.enumerate() {
-                    part.set(k, p, q);
-                }
-            });
+        self.window_rows().zip(parts).for_each(|(row, mut part)| {
+            let kept = row.iter().filter_map(|p| Some((p, point(p)?)));
+            for (k, (p, q)) in kept.enumerate() {
+                part.set(k, p, q);
+            }
+        });
         cloud
     }
 }

@@ -58,7 +58,7 @@ pub use cloud::{Frame, PointCloud, Units};
 pub use error::Error;
 pub use materials::MATERIALS;
 pub use noise::Noise;
-pub use scan::{Pixel, Region, Scan, nearest_surface, scan, scan_reusing, scan_within};
+pub use scan::{Pixel, Region, Scan, Window, nearest_surface, scan, scan_reusing, scan_within};
 pub use spec::{
     Calibration, CalibrationError, Model, PRESETS, Processing, Projector, Removal, Sampling,
     SensorSpec,

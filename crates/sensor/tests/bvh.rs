@@ -188,7 +188,7 @@ fn watertight_through_vertices_and_edges() {
             let dirs: [[Vec3; 4]; 4] = std::array::from_fn(|g| {
                 std::array::from_fn(|k| (sixteen[4 * g + k] - origin).normalize())
             });
-            let hits = bvh.cast_packet(origin, &dirs, &[[10.0; 4]; 4]);
+            let hits = bvh.cast_packet(&[[origin; 4]; 4], &dirs, &[[10.0; 4]; 4]);
             for (k, h) in hits.iter().flatten().enumerate() {
                 let h = h.expect("a ray from inside a closed mesh always hits");
                 assert!((h.t - (sixteen[k] - origin).length()).abs() < 1e-5);
@@ -302,14 +302,17 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
 
     /// Rays traced together as a packet (four groups of four) give each lane exactly what one
-    /// ray alone gets (closest hit and occlusion): near-parallel groups (camera blocks),
-    /// spread-out ones, idle lanes, and shared edges of a closed grid.
+    /// ray alone gets (closest hit and occlusion): near-parallel groups from one origin (camera
+    /// blocks) or from nearby ones (a surface's mirror rays), spread-out ones, idle lanes, and
+    /// shared edges of a closed grid.
     #[test]
     fn packets_match_single_rays_bit_for_bit(
         centres in prop::collection::vec(v3(), 1..300),
         offsets in prop::collection::vec((v3(), v3()), 300),
         origin in v3(),
         groups in prop::collection::vec((v3(), v3(), v3(), v3(), 0.0f32..1.0, 0u8..16), 24),
+        moved in prop::collection::vec(v3(), 96),
+        apart in prop_oneof![Just(0.0f32), 0.0f32..0.05, 0.0f32..1.0],
     ) {
         let mut tris: Vec<[Vec3; 3]> = centres
             .iter()
@@ -318,7 +321,6 @@ proptest! {
             .collect();
         tris.extend(grid_cube(6).into_iter().map(|t| t.map(|v| v * 1.5)));
         let bvh = Bvh::build(&tris);
-        let o = origin * 0.5;
         let group = |(d, a, b, c, spread, idle): &(Vec3, Vec3, Vec3, Vec3, f32, u8)| {
             let d = d.try_normalize().unwrap_or(Vec3::Z);
             let dirs = [d, d + *spread * *a, d + *spread * *b, d + *spread * *c]
@@ -327,24 +329,28 @@ proptest! {
                 std::array::from_fn(|k| if idle & (1 << k) != 0 { 0.0 } else { 10.0 });
             (dirs, t_max)
         };
-        for packet in groups.chunks_exact(4) {
+        for (packet, moved) in groups.chunks_exact(4).zip(moved.chunks_exact(16)) {
             let dirs: [[Vec3; 4]; 4] = std::array::from_fn(|g| group(&packet[g]).0);
             let t_max: [[f32; 4]; 4] = std::array::from_fn(|g| group(&packet[g]).1);
-            let hits = bvh.cast_packet(o, &dirs, &t_max);
+            // each lane's origin: the packet's, moved up to `apart` (0: one origin)
+            let o: [[Vec3; 4]; 4] = std::array::from_fn(|g| {
+                std::array::from_fn(|k| origin * 0.5 + apart * moved[4 * g + k])
+            });
+            let hits = bvh.cast_packet(&o, &dirs, &t_max);
             // occlusion just short of and just past each lane's closest hit
             for scale in [0.5, 0.999, 1.001] {
                 let reach: [[f32; 4]; 4] = std::array::from_fn(|g| {
                     std::array::from_fn(|k| hits[g][k].map_or(t_max[g][k], |h| h.t * scale))
                 });
-                let blocked = bvh.occluded_packet(o, &dirs, &reach);
+                let blocked = bvh.occluded_packet(&o, &dirs, &reach);
                 for (g, k) in (0..4).flat_map(|g| (0..4).map(move |k| (g, k))) {
-                    let one = reach[g][k] > 0.0 && bvh.occluded(o, dirs[g][k], reach[g][k]);
+                    let one = reach[g][k] > 0.0 && bvh.occluded(o[g][k], dirs[g][k], reach[g][k]);
                     prop_assert_eq!(blocked[g][k], one, "occlusion, lane {}.{}, scale {}", g, k, scale);
                 }
             }
             for (g, k) in (0..4).flat_map(|g| (0..4).map(move |k| (g, k))) {
                 let one = if t_max[g][k] > 0.0 {
-                    bvh.cast(o, dirs[g][k], t_max[g][k])
+                    bvh.cast(o[g][k], dirs[g][k], t_max[g][k])
                 } else {
                     None
                 };

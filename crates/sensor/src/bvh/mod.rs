@@ -1,7 +1,7 @@
 //! A ray-casting BVH: built by parry (binned or PLOC) and collapsed into a 4-wide tree whose
-//! leaf triangles are stored in traversal order (`build`), and walked by packets of rays from one
-//! origin (`traverse`): each node's four boxes are tested once per packet against the cone the
-//! rays span, nearest child first, and each triangle against four rays at once with a watertight
+//! leaf triangles are stored in traversal order (`build`), and walked by packets of rays
+//! (`traverse`): each node's four boxes are tested once per packet against the cone the rays
+//! span from the box of their origins, nearest child first, and each triangle against four rays at once with a watertight
 //! test (Woop et al. 2013; `triangle`). A single ray walks the same box tests without a
 //! packet's bookkeeping, and tests each triangle alone.
 
@@ -138,13 +138,15 @@ impl Bvh {
         })
     }
 
-    /// The closest hits of a packet of rays from one origin (camera pixels, or shadow rays from
-    /// one light), `G` groups of four, traced together through the tree: each node's boxes are
-    /// tested once for the whole packet, each triangle against four rays at once. Lanes with
-    /// `t_max <= 0` are idle. Each lane gets exactly what [`Bvh::cast`] gives its ray.
+    /// The closest hits of a packet of rays, `G` groups of four, traced together through the
+    /// tree: each node's boxes are tested once for the whole packet, each triangle against four
+    /// rays at once. The rays pay off together where they run side by side: camera pixels or
+    /// shadow rays from one light (one origin), the mirror rays of a surface's neighbouring
+    /// points. Lanes with `t_max <= 0` are idle. Each lane gets exactly what [`Bvh::cast`]
+    /// gives its ray.
     pub fn cast_packet<const G: usize>(
         &self,
-        origin: Vec3,
+        origins: &[[Vec3; 4]; G],
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [[Option<Hit>; 4]; G] {
@@ -159,8 +161,8 @@ impl Bvh {
         for (g, k) in lanes::<G>() {
             (best[g][k].t, limit[g][k]) = (t_max[g][k], t_max[g][k].next_up());
         }
-        let rays = Rays4::packet(origin, dirs, t_max);
-        self.walk(origin, &rays, t_max, |g, mask, slot, reach| {
+        let rays = Rays4::packet(origins, dirs, t_max);
+        self.walk(&rays, t_max, |g, mask, slot, reach| {
             let limit = &mut limit[g];
             let best = &mut best[g];
             rays[g].hits(
@@ -209,18 +211,18 @@ impl Bvh {
         blocked
     }
 
-    /// [`Bvh::occluded`] for a packet of rays from one origin, `G` groups of four, traced
-    /// together; lanes with `t_max <= 0` are idle (and not occluded). A lane stops at its first
-    /// hit.
+    /// [`Bvh::occluded`] for a packet of rays, `G` groups of four, traced together (see
+    /// [`Bvh::cast_packet`]); lanes with `t_max <= 0` are idle (and not occluded). A lane stops
+    /// at its first hit.
     pub fn occluded_packet<const G: usize>(
         &self,
-        origin: Vec3,
+        origins: &[[Vec3; 4]; G],
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [[bool; 4]; G] {
-        let rays = Rays4::packet(origin, dirs, t_max);
+        let rays = Rays4::packet(origins, dirs, t_max);
         let mut blocked = [[false; 4]; G];
-        self.walk(origin, &rays, t_max, |g, mask, slot, reach| {
+        self.walk(&rays, t_max, |g, mask, slot, reach| {
             let blocked = &mut blocked[g];
             rays[g].hits(&self.tris[slot as usize], mask, t_max[g], |lane, _| {
                 blocked[lane] = true;

@@ -1,5 +1,6 @@
-//! Walking the tree with a packet of rays from one origin: each node's four boxes tested once
-//! for the packet against the cone its rays span, nearest child first, on a short stack.
+//! Walking the tree with a packet of rays: each node's four boxes tested once for the packet
+//! against the cone its rays span from the box of their origins, nearest child first, on a
+//! short stack.
 
 use glam::{BVec4A, Vec3, Vec4};
 
@@ -12,14 +13,13 @@ const STACK: usize = 128;
 
 impl Bvh {
     /// The walk of a packet: visits each node once for the whole packet, testing its four boxes
-    /// at once against the cone the rays span (interval arithmetic over their inverse
-    /// directions, a superset of what each ray enters); `leaf(group, lanes, slot, reach)` tests
+    /// at once against the cone the rays span (interval arithmetic over their origins and
+    /// inverse directions, a superset of what each ray enters); `leaf(group, lanes, slot, reach)` tests
     /// a leaf's triangle for the lanes (bit mask) of a group still searching and lowers their
     /// `reach` on hits (a `reach` of 0 or less ends a lane). Returns the number of nodes visited.
     #[inline(always)]
     pub(super) fn walk<const G: usize>(
         &self,
-        origin: Vec3,
         rays: &[Rays4; G],
         t_max: &[[f32; 4]; G],
         mut leaf: impl FnMut(usize, u32, u32, &mut [f32; 4]),
@@ -29,10 +29,11 @@ impl Bvh {
         if self.nodes.is_empty() || lanes.iter().all(|&l| l == 0) {
             return 0;
         }
-        let all = rays.iter().map(|r| r.inv).reduce(InvRange::union);
-        let cone = Cone::new(origin, all.expect("a packet has a group"));
+        let span = |of: fn(&Rays4) -> Span| rays.iter().map(of).reduce(Span::union);
+        let (from, inv) = (span(|r| r.from), span(|r| r.inv));
+        let cone = Cone::new(from.expect("a packet has a group"), inv.expect("one"));
         // each group's own cone decides which leaves its rays test
-        let groups: [Cone; G] = std::array::from_fn(|g| Cone::new(origin, rays[g].inv));
+        let groups: [Cone; G] = std::array::from_fn(|g| Cone::new(rays[g].from, rays[g].inv));
         let furthest = |reach: &[[f32; 4]; G]| {
             reach.iter().fold(f32::NEG_INFINITY, |m, r| {
                 m.max(Vec4::from(*r).max_element())
@@ -164,17 +165,21 @@ pub(super) fn live_lanes(reach: [f32; 4]) -> u32 {
     Vec4::from(reach).cmpgt(Vec4::ZERO).bitmask()
 }
 
-/// The cone spanned by a packet of rays from one origin, as the range of their inverse
-/// direction components per axis: a box test against it admits every box any of the rays
-/// enters (products are monotonic in the inverse direction, rounding included).
+/// The cone spanned by a packet of rays, as the range of their origins' coordinates and of
+/// their inverse direction components per axis: a box test against it admits every box any of
+/// the rays enters (products are monotonic in the inverse direction, differences in the origin,
+/// rounding included).
 struct Cone {
     axes: [ConeAxis; 3],
 }
 
 /// One axis of a [`Cone`].
 struct ConeAxis {
-    /// The origin's coordinate (splat).
-    origin: Vec4,
+    /// The origin coordinate (splat) that gives the earliest entry through the near bound, and
+    /// the one that gives the latest exit through the far bound (the same for rays from one
+    /// origin).
+    near_origin: Vec4,
+    far_origin: Vec4,
     /// Smallest and largest inverse direction component (splats).
     inv_lo: Vec4,
     inv_hi: Vec4,
@@ -183,67 +188,73 @@ struct ConeAxis {
     far: usize,
 }
 
-/// The smallest and largest inverse direction component per axis of some rays (none: the
-/// empty range, +∞ to -∞).
+/// The smallest and largest component per axis of some rays' origins or inverse directions
+/// (none: the empty range, +∞ to -∞).
 #[derive(Clone, Copy)]
-pub(super) struct InvRange {
+pub(super) struct Span {
     lo: Vec3,
     hi: Vec3,
 }
 
-impl InvRange {
-    /// The inverse direction of one ray, as [`InvRange::of`] gives it for a lane.
+impl Span {
+    /// The range over the rays in `lanes` (a bit mask) of vectors given per axis as lanes.
     #[inline(always)]
-    pub(super) fn one(d: Vec3) -> InvRange {
-        InvRange::of(&[Vec4::splat(d.x), Vec4::splat(d.y), Vec4::splat(d.z)], 1)
-    }
-
-    /// The range of the rays in `lanes` (a bit mask), given their direction components per
-    /// axis as lanes.
-    #[inline(always)]
-    pub(super) fn of(d: &[Vec4; 3], lanes: u32) -> InvRange {
+    pub(super) fn of(v: &[Vec4; 3], lanes: u32) -> Span {
         let live = BVec4A::new(
             lanes & 1 != 0,
             lanes & 2 != 0,
             lanes & 4 != 0,
             lanes & 8 != 0,
         );
-        let [(xl, xh), (yl, yh), (zl, zh)] = d.map(|c| {
-            let tiny = c.abs().cmplt(Vec4::splat(TINY));
-            let inv = Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c);
+        let [(xl, xh), (yl, yh), (zl, zh)] = v.map(|c| {
             (
-                Vec4::select(live, inv, Vec4::INFINITY).min_element(),
-                Vec4::select(live, inv, Vec4::NEG_INFINITY).max_element(),
+                Vec4::select(live, c, Vec4::INFINITY).min_element(),
+                Vec4::select(live, c, Vec4::NEG_INFINITY).max_element(),
             )
         });
-        InvRange {
+        Span {
             lo: Vec3::new(xl, yl, zl),
             hi: Vec3::new(xh, yh, zh),
         }
     }
 
-    fn union(self, other: InvRange) -> InvRange {
-        InvRange {
+    fn union(self, other: Span) -> Span {
+        Span {
             lo: self.lo.min(other.lo),
             hi: self.hi.max(other.hi),
         }
     }
 }
 
+/// The inverse of direction components, those smaller than [`TINY`] nudged to it (keeping
+/// their sign).
+#[inline(always)]
+pub(super) fn inverse(c: Vec4) -> Vec4 {
+    let tiny = c.abs().cmplt(Vec4::splat(TINY));
+    Vec4::ONE / Vec4::select(tiny, Vec4::splat(TINY).copysign(c), c)
+}
+
 impl Cone {
-    /// The cone of rays from `origin` with inverse directions in `range`.
+    /// The cone of rays with origins in `from` and inverse directions in `inv`.
     #[inline(always)]
-    fn new(origin: Vec3, range: InvRange) -> Cone {
+    fn new(from: Span, inv: Span) -> Cone {
         // rays both ways along an axis: the origin at -∞ makes it admit every finite box
-        let both = range.lo.cmplt(Vec3::ZERO) & range.hi.cmpgt(Vec3::ZERO);
-        let o = Vec3::select(both, Vec3::NEG_INFINITY, origin).to_array();
-        let lo = Vec3::select(both, Vec3::NEG_ONE, range.lo).to_array();
-        let hi = Vec3::select(both, Vec3::ONE, range.hi).to_array();
-        let backwards = range.hi.cmplt(Vec3::ZERO).bitmask();
+        let both = inv.lo.cmplt(Vec3::ZERO) & inv.hi.cmpgt(Vec3::ZERO);
+        let lo = Vec3::select(both, Vec3::NEG_ONE, inv.lo).to_array();
+        let hi = Vec3::select(both, Vec3::ONE, inv.hi).to_array();
+        let backwards = inv.hi.cmplt(Vec3::ZERO);
+        // along +axis the earliest entry is from the furthest origin and the latest exit from
+        // the nearest; along -axis the other way round
+        let near_o = Vec3::select(backwards, from.lo, from.hi);
+        let far_o = Vec3::select(backwards, from.hi, from.lo);
+        let near_o = Vec3::select(both, Vec3::NEG_INFINITY, near_o).to_array();
+        let far_o = Vec3::select(both, Vec3::NEG_INFINITY, far_o).to_array();
+        let backwards = backwards.bitmask();
         let axes = std::array::from_fn(|axis| {
             let (near, far) = bound_order(backwards & (1 << axis) != 0, axis);
             ConeAxis {
-                origin: Vec4::splat(o[axis]),
+                near_origin: Vec4::splat(near_o[axis]),
+                far_origin: Vec4::splat(far_o[axis]),
                 inv_lo: Vec4::splat(lo[axis]),
                 inv_hi: Vec4::splat(hi[axis]),
                 near,
@@ -260,8 +271,8 @@ impl Cone {
         let mut near = Vec4::ZERO;
         let mut far = Vec4::splat(reach);
         for a in &self.axes {
-            let d_near = n.bounds[a.near] - a.origin;
-            let d_far = n.bounds[a.far] - a.origin;
+            let d_near = n.bounds[a.near] - a.near_origin;
+            let d_far = n.bounds[a.far] - a.far_origin;
             near = near.max((d_near * a.inv_lo).min(d_near * a.inv_hi));
             far = far.min((d_far * a.inv_lo).max(d_far * a.inv_hi));
         }
@@ -299,7 +310,7 @@ struct SlabAxis {
 impl Slab {
     #[inline(always)]
     fn new(origin: Vec3, dir: Vec3) -> Slab {
-        let InvRange { lo: inv, .. } = InvRange::one(dir);
+        let inv = inverse(dir.extend(1.0)).truncate();
         let (o, inv_a) = (origin.to_array(), inv.to_array());
         let backwards = inv.cmplt(Vec3::ZERO).bitmask();
         let axes = std::array::from_fn(|axis| {

@@ -5,7 +5,7 @@
 use glam::{Vec3, Vec4};
 
 use super::Tri;
-use super::traverse::{InvRange, live_lanes};
+use super::traverse::{Span, inverse, live_lanes};
 
 /// γ(3) = 3ε / (1 - 3ε): the relative error bound of three f32 operations.
 const GAMMA3: f32 = 3.0 * f32::EPSILON / (1.0 - 3.0 * f32::EPSILON);
@@ -86,14 +86,15 @@ impl ShearedRay {
     }
 }
 
-/// Four rays from one origin prepared for the watertight test: together in SIMD lanes where the
-/// live rays share their sheared axes (nearly always), else one by one.
+/// Four rays prepared for the watertight test: together in SIMD lanes where the live rays share
+/// their sheared axes (nearly always), else one by one.
 pub(super) struct Rays4 {
-    origin: Vec3,
-    /// Direction components per axis (x, y, z), a ray per lane.
+    /// Origin and direction components per axis (x, y, z), a ray per lane.
+    origins: [Vec4; 3],
     dirs: [Vec4; 3],
-    /// The range of the live rays' inverse directions.
-    pub(super) inv: InvRange,
+    /// The range of the live rays' origins and of their inverse directions.
+    pub(super) from: Span,
+    pub(super) inv: Span,
     /// The sheared frame of the live rays, if they share its axes.
     shared: Option<Shear4>,
 }
@@ -109,22 +110,24 @@ struct Shear4 {
 impl Rays4 {
     /// The groups of a packet; lanes with `t_max <= 0` are idle and never tested.
     pub(super) fn packet<const G: usize>(
-        origin: Vec3,
+        origins: &[[Vec3; 4]; G],
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [Rays4; G] {
-        std::array::from_fn(|g| Rays4::new(origin, &dirs[g], live_lanes(t_max[g])))
+        std::array::from_fn(|g| Rays4::new(&origins[g], &dirs[g], live_lanes(t_max[g])))
     }
 
     /// The rays in `lanes` (a bit mask).
     #[inline(always)]
-    fn new(origin: Vec3, dirs: &[Vec3; 4], lanes: u32) -> Rays4 {
-        let [a, b, c, e] = dirs;
-        let d = [
-            Vec4::new(a.x, b.x, c.x, e.x),
-            Vec4::new(a.y, b.y, c.y, e.y),
-            Vec4::new(a.z, b.z, c.z, e.z),
-        ];
+    fn new(origins: &[Vec3; 4], dirs: &[Vec3; 4], lanes: u32) -> Rays4 {
+        let by_axis = |[a, b, c, e]: &[Vec3; 4]| {
+            [
+                Vec4::new(a.x, b.x, c.x, e.x),
+                Vec4::new(a.y, b.y, c.y, e.y),
+                Vec4::new(a.z, b.z, c.z, e.z),
+            ]
+        };
+        let (o, d) = (by_axis(origins), by_axis(dirs));
         let [dx, dy, dz] = d;
         // the dominant axis per lane, as `Vec3::max_position` picks it (first on ties)
         let (ax, ay, az) = (dx.abs(), dy.abs(), dz.abs());
@@ -149,17 +152,18 @@ impl Rays4 {
             }
         });
         Rays4 {
-            origin,
+            origins: o,
             dirs: d,
-            inv: InvRange::of(&d, lanes),
+            from: Span::of(&o, lanes),
+            inv: Span::of(&d.map(inverse), lanes),
             shared,
         }
     }
 
     /// Lane `lane` as a single ray.
     fn ray(&self, lane: usize) -> ShearedRay {
-        let [x, y, z] = self.dirs.map(|c| c.to_array()[lane]);
-        ShearedRay::new(self.origin, Vec3::new(x, y, z))
+        let at = |v: [Vec4; 3]| Vec3::from(v.map(|c| c.to_array()[lane]));
+        ShearedRay::new(at(self.origins), at(self.dirs))
     }
 
     /// Calls `hit(lane, (t, u, v))` for each lane in `mask` whose ray hits `tri` with
@@ -174,7 +178,7 @@ impl Rays4 {
         mut hit: impl FnMut(usize, (f32, f32, f32)),
     ) {
         let (found, t, u, v, mut todo) = match &self.shared {
-            Some(shear) => shear.intersect(self.origin, tri, mask, Vec4::from(limit)),
+            Some(shear) => shear.intersect(&self.origins, tri, mask, Vec4::from(limit)),
             None => (0, [0.0; 4], [0.0; 4], [0.0; 4], mask),
         };
         todo |= found;
@@ -191,27 +195,25 @@ impl Rays4 {
 }
 
 impl Shear4 {
-    /// The watertight test of one triangle against the four rays from `origin`, with the same
-    /// operations as [`ShearedRay::intersect`] so that each lane gets the same bits. For the
+    /// The watertight test of one triangle against the four rays from `origins` (per axis, a
+    /// ray per lane), with the same operations as [`ShearedRay::intersect`] so that each lane
+    /// gets the same bits. For the
     /// lanes in `mask`: (lanes hit with 0 < t < `limit`, t, u, v, lanes on an edge to f32
     /// precision, which the scalar test settles in f64).
     #[inline(always)]
     fn intersect(
         &self,
-        origin: Vec3,
+        origins: &[Vec4; 3],
         tri: &Tri,
         mask: u32,
         limit: Vec4,
     ) -> (u32, [f32; 4], [f32; 4], [f32; 4], u32) {
         let [kx, ky, kz] = self.axes;
-        let [a, b, c] = tri.map(|v| (v - origin).to_array());
-        let sheared = |p: [f32; 3]| {
-            let z = Vec4::splat(p[kz]);
-            (
-                Vec4::splat(p[kx]) - self.sx * z,
-                Vec4::splat(p[ky]) - self.sy * z,
-            )
-        };
+        let [a, b, c] = tri.map(|v| {
+            let v = v.to_array();
+            [kx, ky, kz].map(|k| Vec4::splat(v[k]) - origins[k])
+        });
+        let sheared = |[x, y, z]: [Vec4; 3]| (x - self.sx * z, y - self.sy * z);
         let ((ax, ay), (bx, by), (cx, cy)) = (sheared(a), sheared(b), sheared(c));
         let u = cx * by - cy * bx;
         let v = ax * cy - ay * cx;
@@ -225,9 +227,7 @@ impl Shear4 {
             return (0, [0.0; 4], [0.0; 4], [0.0; 4], on_edge); // most tests miss
         }
         let det = u + v + w;
-        let t_scaled = u * self.sz * Vec4::splat(a[kz])
-            + v * self.sz * Vec4::splat(b[kz])
-            + w * self.sz * Vec4::splat(c[kz]);
+        let t_scaled = u * self.sz * a[2] + v * self.sz * b[2] + w * self.sz * c[2];
         let inv = Vec4::ONE / det;
         let t = t_scaled * inv;
         let valid = det.cmpne(zero) & t.cmpgt(zero) & t.cmplt(limit);

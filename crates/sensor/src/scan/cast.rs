@@ -11,6 +11,7 @@ use super::decode::Stripes;
 use super::diffuse::Diffuse;
 use super::light::{LitPixel, acos, illuminate};
 use super::measure::measure;
+use super::mirror::{Mirrored, cast_mirrors};
 use super::region::{Region, Window, row_columns};
 use crate::bvh::lanes;
 use crate::epipolar::{Epipolar, Ray, RowCut};
@@ -141,7 +142,7 @@ impl<'a> Capture<'a> {
                 lits.resize(rows * cols.len(), None);
                 self.cast_blocks(band, cols, out, lits);
                 for (line, lits) in out.chunks_mut(width).zip(lits.chunks(cols.len())) {
-                    self.finish_row(&mut line[cols.clone()], lits);
+                    self.finish_row(&mut line[cols.clone()], lits, &mut scratch.mirrors);
                 }
             }
         }
@@ -178,6 +179,7 @@ impl<'a> Capture<'a> {
             hits,
             rays,
             cut,
+            mirrors,
         } = scratch;
         lits.resize(cols.len(), None); // one row's, each written before it is read
         for (r, line) in out.chunks_mut(k.width as usize).enumerate() {
@@ -204,19 +206,26 @@ impl<'a> Capture<'a> {
             if self.projector.is_some() {
                 shade(epipolar, cut, lits, rays, self.sensor);
             }
-            self.finish_row(&mut line[cols.clone()], lits);
+            self.finish_row(&mut line[cols.clone()], lits, mirrors);
         }
     }
 
     /// Completes a row of pixels (the window's columns) measured up to their light: incidence
-    /// angles from the cosines, in one tight loop, then the measurement of each lit pixel.
-    fn finish_row(&self, line: &mut [Pixel], lits: &[Option<LitPixel>]) {
+    /// angles from the cosines, in one tight loop, what the shiny pixels' mirror rays meet
+    /// (`mirrors`, the row's), then the measurement of each lit pixel.
+    fn finish_row(
+        &self,
+        line: &mut [Pixel],
+        lits: &[Option<LitPixel>],
+        mirrors: &mut Vec<Option<Mirrored>>,
+    ) {
         for px in line.iter_mut() {
             px.incidence = acos(px.incidence);
         }
-        for (lit, px) in lits.iter().zip(line) {
+        cast_mirrors(self, lits, line, mirrors);
+        for ((lit, px), mirror) in lits.iter().zip(line).zip(mirrors.iter()) {
             if let Some(lit) = lit {
-                measure(self, lit, px);
+                measure(self, lit, mirror.as_ref(), px);
             }
         }
     }
@@ -262,7 +271,10 @@ impl<'a> Capture<'a> {
             if at.iter().flatten().all(Option::is_none) {
                 continue; // nothing to cast: the pixels stay empty
             }
-            let hits = self.world.bvh().cast_packet(self.origin, &dirs, &t_max);
+            let hits = self
+                .world
+                .bvh()
+                .cast_packet(&[[self.origin; 4]; GROUPS], &dirs, &t_max);
             // the shadow rays, world frame, towards the lit surface points from the projector
             let mut shadow = [[Vec3::Z; 4]; GROUPS];
             let mut length = [[0.0; 4]; GROUPS];
@@ -283,7 +295,10 @@ impl<'a> Capture<'a> {
                     lits[r * span + c - cols.start] = lit;
                 }
             }
-            let blocked = self.world.bvh().occluded_packet(from, &shadow, &length);
+            let blocked = self
+                .world
+                .bvh()
+                .occluded_packet(&[[from; 4]; GROUPS], &shadow, &length);
             for (g, lane) in lanes::<GROUPS>() {
                 if blocked[g][lane] {
                     let (c, r) = block_pixel(col, g, lane);
@@ -306,6 +321,8 @@ pub(super) struct Band {
     /// One row's shadow rays, by position in the row.
     rays: Vec<(usize, Ray)>,
     cut: RowCut,
+    /// What one row's mirror rays meet.
+    mirrors: Vec<Option<Mirrored>>,
 }
 
 /// Puts the lit pixels of a cut row whose surface point the projector does not reach in its

@@ -11,7 +11,7 @@ use super::cast::Capture;
 use super::decode::{Light, decode};
 use super::diffuse::FAINT;
 use super::light::LitPixel;
-use super::mirror::mirrored;
+use super::mirror::{Mirrored, mirrored};
 use super::{Pixel, Scan};
 use crate::noise::{PixelRng, stream};
 use crate::spec::{Model, SensorSpec};
@@ -62,10 +62,11 @@ static SRGB: std::sync::LazyLock<[u8; SRGB_STEPS]> = std::sync::LazyLock::new(||
 });
 
 /// Measures labelled pixel `px` of a lit surface point, or of a shiny one in the projector's
-/// shadow: the light other surfaces send it (interreflection: mirrored, diffuse), the noise
+/// shadow: the light other surfaces send it (interreflection: what its mirror ray meets,
+/// `mirror`, and the diffuse light), the noise
 /// filter, where it samples (its centre, or a laterally jittered position), whether that
 /// surface lies in the working range, range noise and quantisation.
-pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
+pub(super) fn measure(setup: &Capture, lit: &LitPixel, mirror: Option<&Mirrored>, px: &mut Pixel) {
     let Capture {
         sensor, pinhole, ..
     } = *setup;
@@ -86,9 +87,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, px: &mut Pixel) {
     // the light of other surfaces: the one a shiny surface mirrors, and the diffuse light of
     // those around it; the pixel decodes them and its own stripes together
     if let Some(stripes) = &setup.stripes {
-        let mirrored = (noise.interreflection.enabled && lit.specular > 0.0)
-            .then(|| mirrored(setup, stripes, lit, px.normal))
-            .flatten();
+        let mirrored = mirror.and_then(|seen| mirrored(setup, stripes, lit, seen));
         let diffuse = setup
             .diffuse
             .as_ref()

@@ -92,12 +92,26 @@ pub struct Scan {
     pub pixels: Vec<Pixel>,
     /// Camera-to-world pose of the scan.
     pub pose: Affine3A,
+    /// The pixels that can see a surface: the whole image, or those a scan within a region
+    /// casts; every pixel outside is [`Pixel::EMPTY`].
+    pub window: Window,
 }
 
 impl Scan {
     /// Number of pixels with a point.
     pub fn valid_count(&self) -> usize {
-        self.pixels.iter().filter(|p| p.is_valid()).count()
+        self.window_rows()
+            .map(|row| row.iter().filter(|p| p.is_valid()).count())
+            .sum()
+    }
+
+    /// The window's pixels, row by row (each row's window columns), in parallel.
+    pub fn window_rows(&self) -> impl IndexedParallelIterator<Item = &[Pixel]> {
+        let w = self.width as usize;
+        let Window { cols, rows } = self.window.clone();
+        self.pixels[rows.start * w..rows.end * w]
+            .par_chunks(w)
+            .map(move |row| &row[cols.clone()])
     }
 }
 
@@ -223,11 +237,18 @@ fn scan_pixels(
         .for_each_init(Band::default, |scratch, (band, out)| {
             capture.band(band, out, scratch);
         });
+    // the pixels cast: the window's columns in whole blocks, its rows in whole bands
+    let rows = &window.rows;
+    let bands = rows.start / BLOCK * BLOCK..(rows.end.div_ceil(BLOCK) * BLOCK).min(size / width);
     let mut scan = Scan {
         width: k.width,
         height: k.height,
         pixels,
         pose: *pose,
+        window: Window {
+            cols: capture.cols.clone(),
+            rows: bands,
+        },
     };
     if let Model::Kinect {
         window,

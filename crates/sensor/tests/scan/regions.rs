@@ -52,6 +52,26 @@ fn region_scan_keeps_every_point_inside_the_region_and_skips_the_rest() {
     let cast = part.pixels.iter().filter(|p| !p.clean.x.is_nan()).count();
     let all = full.pixels.iter().filter(|p| !p.clean.x.is_nan()).count();
     assert!(cast < all * 6 / 10, "{cast} of {all} pixels cast");
+    // the window holds every pixel the scan filled, and what reads it alone misses nothing
+    assert_eq!(full.window, Window::full(&spec.intrinsics));
+    empty_outside_window(&part);
+    let window = part.window.rows.len() * part.window.cols.len();
+    assert!(window < part.pixels.len() * 6 / 10, "{window}");
+    let valid = part.pixels.iter().filter(|p| p.is_valid()).count();
+    assert_eq!(part.valid_count(), valid);
+    assert_eq!(part.cloud(false, Frame::Camera, Units::Metres).len(), valid);
+}
+
+/// Asserts that every pixel of `scan` outside its window is empty.
+fn empty_outside_window(scan: &Scan) {
+    let (w, window) = (scan.width as usize, &scan.window);
+    for (i, p) in scan.pixels.iter().enumerate() {
+        let (c, r) = (i % w, i / w);
+        if !(window.cols.contains(&c) && window.rows.contains(&r)) {
+            let empty = !p.is_valid() && p.clean.x.is_nan() && p.class == 0 && p.instance == 0;
+            assert!(empty, "pixel ({c}, {r}) outside the window {window:?}");
+        }
+    }
 }
 
 /// A region's pixel window holds every pixel whose centre ray crosses the box, from cameras all
@@ -146,6 +166,7 @@ fn region_scans_cast_every_crossing_pixel_and_little_else() {
             }
         }
         assert!(crossing > 500, "pose {i}: {crossing}");
+        empty_outside_window(&part);
         // a column to spare either side of each row's cut, and a third on the right
         assert!(
             cast <= crossing + 3 * 120,
