@@ -231,9 +231,12 @@ fn scan_pixels(
             .stripes
             .map(|stripes| Diffuse::new(world, sensor, pose, seed, region, &stripes));
     }
+    // a task per band: a region fills few of them, and rayon's halving of the range left one
+    // thread a run of busy bands while the other idled
     pixels
         .par_chunks_mut(BLOCK * width)
         .enumerate()
+        .with_max_len(1)
         .for_each_init(Band::default, |scratch, (band, out)| {
             capture.band(band, out, scratch);
         });
