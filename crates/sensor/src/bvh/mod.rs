@@ -1,8 +1,8 @@
 //! A ray-casting BVH: built by parry (binned or PLOC) and collapsed into a 4-wide tree whose
 //! leaf triangles are stored in traversal order (`build`), and walked by packets of rays
 //! (`traverse`): each node's four boxes are tested once per packet against the cone the rays
-//! span from the box of their origins, nearest child first, and each triangle against four rays at once with a watertight
-//! test (Woop et al. 2013; `triangle`). A single ray walks the same box tests without a
+//! span from the box of their origins, nearest child first, and each triangle against four
+//! rays at once with a watertight test (Woop et al. 2013; `triangle`). A single ray walks the same box tests without a
 //! packet's bookkeeping, and tests each triangle alone.
 
 mod build;

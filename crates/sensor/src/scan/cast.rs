@@ -50,9 +50,8 @@ pub(super) struct Capture<'a> {
     /// The light each pixel's surface receives from the lit surfaces around it, with the
     /// diffuse bounce.
     pub(super) diffuse: Option<Diffuse>,
-    /// The pixels cast: whole blocks over the window's columns, and the window's rows.
-    pub(super) cols: Range<usize>,
-    pub(super) rows: Range<usize>,
+    /// The pixels cast: the window's columns in whole blocks, its rows in whole bands.
+    pub(super) cast: Window,
     pub(super) path: Path,
 }
 
@@ -93,7 +92,7 @@ impl<'a> Capture<'a> {
         let path = if pinhole && 3 * cols.len() * band_rows.len() >= world.triangle_count() {
             let baseline = sensor.projector().map_or(0.0, |p| p.baseline);
             let far = sensor.far_depth();
-            let epipolar = world.epipolar(k, pose, baseline, band_rows, BLOCK, far);
+            let epipolar = world.epipolar(k, pose, baseline, band_rows.clone(), BLOCK, far);
             Path::Rows(epipolar)
         } else {
             Path::Blocks
@@ -116,8 +115,10 @@ impl<'a> Capture<'a> {
             lattice: Correlated::key(seed),
             stripes: projector.map(|(frustum, _)| Stripes::new(sensor, frustum)),
             diffuse: None,
-            cols,
-            rows: window.rows.clone(),
+            cast: Window {
+                cols,
+                rows: band_rows,
+            },
             path,
         }
     }
@@ -126,8 +127,8 @@ impl<'a> Capture<'a> {
     /// the cast window are left empty.
     pub(super) fn band(&self, band: usize, out: &mut [Pixel], scratch: &mut Band) {
         let width = self.sensor.intrinsics.width as usize;
-        let (rows, cols) = (out.len() / width, &self.cols);
-        if BLOCK * band + rows <= self.rows.start || BLOCK * band >= self.rows.end {
+        let (rows, cols) = (out.len() / width, &self.cast.cols);
+        if BLOCK * band + rows <= self.cast.rows.start || BLOCK * band >= self.cast.rows.end {
             out.fill(Pixel::EMPTY);
             return; // outside the region's window: nothing to cast
         }

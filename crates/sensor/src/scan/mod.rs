@@ -240,18 +240,12 @@ fn scan_pixels(
         .for_each_init(Band::default, |scratch, (band, out)| {
             capture.band(band, out, scratch);
         });
-    // the pixels cast: the window's columns in whole blocks, its rows in whole bands
-    let rows = &window.rows;
-    let bands = rows.start / BLOCK * BLOCK..(rows.end.div_ceil(BLOCK) * BLOCK).min(size / width);
     let mut scan = Scan {
         width: k.width,
         height: k.height,
         pixels,
         pose: *pose,
-        window: Window {
-            cols: capture.cols.clone(),
-            rows: bands,
-        },
+        window: capture.cast.clone(),
     };
     if let Model::Kinect {
         window,
