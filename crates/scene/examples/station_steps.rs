@@ -7,6 +7,10 @@ use scene::coverage::Rule;
 use scene::rig::on_cap;
 use scene::{Clamping, Config, Recipe, Station};
 
+/// The Python package's allocator, which the environment's steps run with.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() {
     let steps: usize = std::env::args()
         .nth(1)

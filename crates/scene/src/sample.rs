@@ -20,9 +20,9 @@ use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson};
 use crate::rig::camera_poses;
 
 thread_local! {
-    /// The pixels of this thread's last region scan, reused by its next: a megapixel buffer
-    /// mapped afresh per sample costs more in page faults than the scan spends filling it.
-    static PIXELS: std::cell::Cell<Vec<Pixel>> = const { std::cell::Cell::new(Vec::new()) };
+    /// This thread's last region scan, whose buffer its next reuses: a megapixel buffer mapped
+    /// afresh per sample costs more in page faults than the scan spends filling it.
+    static EARLIER: std::cell::Cell<Scan> = std::cell::Cell::new(Scan::default());
 }
 
 /// What a sample draws at random, each from a seed of its own derived from the sample's seed,
@@ -310,8 +310,8 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             // unless the whole scene is wanted, only pixels whose rays cross the crop box, so
             // cropping loses nothing
             let region = (!whole).then(|| region_around(&crop, &pose, &sensor));
-            let buffer = PIXELS.take();
-            let s = scan_reusing(world, &sensor, &pose, noise_seed, region.as_ref(), buffer);
+            let earlier = EARLIER.take();
+            let s = scan_reusing(world, &sensor, &pose, noise_seed, region.as_ref(), earlier);
             let mut jitter = Seed::Jitter(v as u64).rng(seed);
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
             // exact points in the first cell's frame, the motor moved back
@@ -326,7 +326,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             let scan = if out.images {
                 Some(s)
             } else {
-                PIXELS.set(s.pixels);
+                EARLIER.set(s);
                 None
             };
             let view = View {

@@ -5,7 +5,7 @@ use glam::{Affine3A, Vec3};
 use motorgen::PartKind;
 use motorgen::kernel::Aabb;
 use rayon::prelude::*;
-use sensor::{Pixel, PointCloud, SensorSpec, Units, World, scan_reusing};
+use sensor::{PointCloud, Scan, SensorSpec, Units, World, scan_reusing};
 
 use crate::cell::{Cell, Variation, compose, transform_box};
 use crate::config::{CameraConfig, Clamping};
@@ -35,7 +35,8 @@ pub struct Station {
     rule: Rule,
     seed: u64,
     near: Aabb,
-    buffer: Vec<Pixel>,
+    /// The last view's scan, whose buffer the next reuses.
+    earlier: Scan,
 }
 
 /// What one view added.
@@ -98,7 +99,7 @@ impl Station {
                 max: bounds.max + MARGIN,
             },
             cell,
-            buffer: Vec::new(),
+            earlier: Scan::default(),
         })
     }
 
@@ -123,9 +124,16 @@ impl Station {
     /// near the motor.
     pub fn capture(&mut self, pose: &Affine3A) -> Capture {
         let region = region_around(&self.near, pose, &self.sensor);
-        let buffer = std::mem::take(&mut self.buffer);
+        let earlier = std::mem::take(&mut self.earlier);
         let seed = Seed::Scan(u64::from(self.taken())).of(self.seed);
-        let scan = scan_reusing(&self.world, &self.sensor, pose, seed, Some(&region), buffer);
+        let scan = scan_reusing(
+            &self.world,
+            &self.sensor,
+            pose,
+            seed,
+            Some(&region),
+            earlier,
+        );
         let gained = observe(
             &self.surface,
             &scan,
@@ -138,7 +146,7 @@ impl Station {
             let w = pose.transform_point3(p.point);
             (p.is_valid() && w.cmpge(near.min).all() && w.cmple(near.max).all()).then_some(p.point)
         });
-        self.buffer = scan.pixels;
+        self.earlier = scan;
         let points = cloud.len();
         self.clouds.push(cloud.transformed(pose, Units::Metres));
         Capture {

@@ -7,8 +7,8 @@
 //!   PLY files as targets.
 //! - [`SensorSpec`]: camera [`Intrinsics`], sensor [`Model`], [`Noise`] and working range;
 //!   [`SensorSpec::preset`] gives the Zivid, Blensor, Kinect and ideal presets.
-//! - [`scan()`] (and [`scan_within`] a region, [`scan_reusing`] a buffer): one organized
-//!   [`Scan`] of [`Pixel`]s in the camera frame, the same bytes for any thread count.
+//! - [`scan()`] (and [`scan_within`] a region, [`scan_reusing`] an earlier scan's buffer): one
+//!   organized [`Scan`] of [`Pixel`]s in the camera frame, the same bytes for any thread count.
 //! - [`Scan::cloud`]: the valid points as a [`PointCloud`] in a [`Frame`] and [`Units`];
 //!   [`formats`] writes clouds (PLY, PCD, NPY, NPZ) and images (PNG, NPY).
 //!

@@ -194,26 +194,17 @@ impl World {
     }
 
     /// The world prepared to be cut in the epipolar planes of a pinhole camera's rows `rows`
-    /// (see [`crate::epipolar`]), taken `band_rows` at a time, for surfaces no deeper
-    /// than `max_depth` and a projector at `baseline` m along camera +x.
+    /// (see [`crate::epipolar`]), for surfaces no deeper than `max_depth` and a projector at
+    /// `baseline` m along camera +x.
     pub(crate) fn epipolar(
         &self,
         k: &Intrinsics,
         pose: &Affine3A,
         baseline: f32,
         rows: Range<usize>,
-        band_rows: usize,
         max_depth: f32,
     ) -> Epipolar {
-        Epipolar::new(
-            self.bvh.slots(),
-            pose,
-            k,
-            baseline,
-            rows,
-            band_rows,
-            max_depth,
-        )
+        Epipolar::new(self.bvh.slots(), pose, k, baseline, rows, max_depth)
     }
 
     /// The hit at distance `t` along unit ray `dir` on the triangle in BVH slot `slot`.

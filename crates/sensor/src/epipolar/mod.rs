@@ -26,8 +26,8 @@ const BIN_PX: f64 = 2.0;
 /// Bins of one row at most (a guard against rays at extreme angles).
 const MAX_BINS: usize = 1 << 16;
 
-/// A world prepared to be cut row by row: the triangles in the camera frame, grouped by the
-/// bands of rows whose planes they may cross.
+/// A world prepared to be cut row by row: the triangles in the camera frame, listed under the
+/// rows whose planes they may cross.
 pub(crate) struct Epipolar {
     /// Every triangle (by BVH slot) in the camera frame.
     tris: Vec<[Vec3; 3]>,
@@ -41,11 +41,10 @@ pub(crate) struct Epipolar {
     cy: f64,
     /// Surfaces deeper than this (camera z, m) are not met.
     max_depth: f64,
-    /// Rows per band, and the band of the first row cut.
-    band_rows: usize,
-    first_band: usize,
-    /// Band `i`'s triangles (those whose cut by one of its rows' planes may be seen or block a
-    /// shadow ray) are `members[starts[i]..starts[i + 1]]`, in slot order.
+    /// The first row prepared for.
+    first_row: usize,
+    /// The triangles of row `first_row + i` (those whose cut by its plane may be seen or block
+    /// a shadow ray) are `members[starts[i]..starts[i + 1]]`, in slot order.
     starts: Vec<u32>,
     members: Vec<u32>,
 }
@@ -60,15 +59,14 @@ pub(crate) struct Ray {
 
 impl Epipolar {
     /// Prepares to cut `tris` (world frame, by BVH slot) seen by the pinhole camera `k` from
-    /// the camera-to-world `pose`, in the rows `rows` taken `band_rows` at a time from row 0,
-    /// for surfaces no deeper than `max_depth` (camera z) and a projector at `baseline`.
+    /// the camera-to-world `pose`, in the rows `rows`, for surfaces no deeper than `max_depth`
+    /// (camera z) and a projector at `baseline`.
     pub(crate) fn new(
         tris: &[[Vec3; 3]],
         pose: &Affine3A,
         k: &Intrinsics,
         baseline: f32,
         rows: Range<usize>,
-        band_rows: usize,
         max_depth: f32,
     ) -> Epipolar {
         let to_camera = pose.inverse();
@@ -76,9 +74,7 @@ impl Epipolar {
             .par_iter()
             .map(|t| t.map(|v| to_camera.transform_point3(v)))
             .collect();
-        let first_band = rows.start / band_rows;
-        let bands = rows.end.div_ceil(band_rows).max(first_band) - first_band;
-        // the bands whose row planes each triangle may cross
+        // the rows whose planes each triangle may cross, as indices from the first
         let spans: Vec<Range<usize>> = tris
             .par_iter()
             .map(|t| {
@@ -86,26 +82,20 @@ impl Epipolar {
                 if z.iter().all(|&z| z <= NEAR) || z.iter().all(|&z| z >= max_depth as f64) {
                     return 0..0; // behind the camera, or beyond every ray's reach
                 }
-                let row_span = if z.iter().any(|&z| z <= NEAR) {
-                    rows.clone() // across the camera's plane: any row
-                } else {
-                    let (lo, hi) = t.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |m, v| {
-                        let row = k.fy * (v.y as f64 / v.z as f64) + k.cy;
-                        (m.0.min(row), m.1.max(row))
-                    });
-                    let clamp = |r: f64| r.clamp(rows.start as f64, rows.end as f64) as usize;
-                    clamp(lo - 2.0)..clamp(hi + 3.0) // rows to spare, as casts truncate
-                };
-                if row_span.is_empty() {
-                    0..0
-                } else {
-                    row_span.start / band_rows - first_band
-                        ..(row_span.end - 1) / band_rows + 1 - first_band
+                if z.iter().any(|&z| z <= NEAR) {
+                    return 0..rows.len(); // across the camera's plane: any row
                 }
+                let (lo, hi) = t.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |m, v| {
+                    let row = k.fy * (v.y as f64 / v.z as f64) + k.cy;
+                    (m.0.min(row), m.1.max(row))
+                });
+                // a row to spare either side (casts truncate: floor(lo) - 1 to floor(hi) + 1)
+                let clamp = |r: f64| (r - rows.start as f64).clamp(0.0, rows.len() as f64) as usize;
+                clamp(lo - 1.0)..clamp(hi + 2.0)
             })
             .collect();
         let (mut starts, mut members) = (Vec::new(), Vec::new());
-        bucket(bands, spans.iter().cloned(), &mut starts, &mut members);
+        bucket(rows.len(), spans.iter().cloned(), &mut starts, &mut members);
         Epipolar {
             tris,
             baseline: baseline as f64,
@@ -115,8 +105,7 @@ impl Epipolar {
             fy: k.fy,
             cy: k.cy,
             max_depth: max_depth as f64,
-            band_rows,
-            first_band,
+            first_row: rows.start,
             starts,
             members,
         }
@@ -125,11 +114,11 @@ impl Epipolar {
     /// Cuts the plane of `row` (in the rows prepared for): its segments, in slot order, into
     /// `row_cut`.
     pub(crate) fn cut(&self, row: usize, row_cut: &mut RowCut) {
-        let band = row / self.band_rows - self.first_band;
+        let i = row - self.first_row;
         let t = (row as f64 - self.cy) / self.fy;
         row_cut.segments.clear();
         row_cut.t = t;
-        let members = &self.members[self.starts[band] as usize..self.starts[band + 1] as usize];
+        let members = &self.members[self.starts[i] as usize..self.starts[i + 1] as usize];
         for &slot in members {
             if let Some(s) = Segment::cut(&self.tris[slot as usize], t, slot) {
                 row_cut.segments.push(s);

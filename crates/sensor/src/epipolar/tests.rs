@@ -25,7 +25,7 @@ fn compare_shadows(
         vfov_deg: 90.0,
     };
     let (w, h) = (k.width as usize, k.height as usize);
-    let epipolar = world.epipolar(k, pose, baseline, 0..h, 4, 50.0);
+    let epipolar = world.epipolar(k, pose, baseline, 0..h, 50.0);
     let origin = Vec3::from(pose.translation);
     let light = pose.transform_point3(projector.centre());
     let mut row_cut = RowCut::default();
@@ -67,7 +67,7 @@ fn compare_shadows(
 fn compare_hits(tris: &[[Vec3; 3]], k: &Intrinsics, pose: &Affine3A) -> (usize, Vec<String>) {
     let world = World::new(&[Target::from_triangles(tris, 1, 1, Material::default())]);
     let (w, h) = (k.width as usize, k.height as usize);
-    let epipolar = world.epipolar(k, pose, 0.0, 0..h, 4, 50.0);
+    let epipolar = world.epipolar(k, pose, 0.0, 0..h, 50.0);
     let origin = Vec3::from(pose.translation);
     let (mut row_cut, mut got) = (RowCut::default(), Vec::new());
     let (mut hits, mut differ) = (0, Vec::new());

@@ -52,6 +52,8 @@ pub(super) struct Capture<'a> {
     pub(super) diffuse: Option<Diffuse>,
     /// The pixels cast: the window's columns in whole blocks, its rows in whole bands.
     pub(super) cast: Window,
+    /// The pixels an earlier scan may have left in the buffer (all others are empty).
+    stale: Window,
     pub(super) path: Path,
 }
 
@@ -66,7 +68,8 @@ pub(super) enum Path {
 }
 
 impl<'a> Capture<'a> {
-    /// Prepares the scan of the pixels of `window` whose centre rays may cross `region`.
+    /// Prepares the scan of the pixels of `window` whose centre rays may cross `region`, into
+    /// a buffer whose pixels outside `stale` are empty.
     pub(super) fn new(
         world: &'a World,
         sensor: &'a SensorSpec,
@@ -74,6 +77,7 @@ impl<'a> Capture<'a> {
         seed: u64,
         region: Option<&Region>,
         window: &Window,
+        stale: Window,
     ) -> Capture<'a> {
         let k = &sensor.intrinsics;
         let bias = {
@@ -92,7 +96,7 @@ impl<'a> Capture<'a> {
         let path = if pinhole && 3 * cols.len() * band_rows.len() >= world.triangle_count() {
             let baseline = sensor.projector().map_or(0.0, |p| p.baseline);
             let far = sensor.far_depth();
-            let epipolar = world.epipolar(k, pose, baseline, band_rows.clone(), BLOCK, far);
+            let epipolar = world.epipolar(k, pose, baseline, band_rows.clone(), far);
             Path::Rows(epipolar)
         } else {
             Path::Blocks
@@ -119,6 +123,7 @@ impl<'a> Capture<'a> {
                 cols,
                 rows: band_rows,
             },
+            stale,
             path,
         }
     }
@@ -128,13 +133,20 @@ impl<'a> Capture<'a> {
     pub(super) fn band(&self, band: usize, out: &mut [Pixel], scratch: &mut Band) {
         let width = self.sensor.intrinsics.width as usize;
         let (rows, cols) = (out.len() / width, &self.cast.cols);
-        if BLOCK * band + rows <= self.cast.rows.start || BLOCK * band >= self.cast.rows.end {
-            out.fill(Pixel::EMPTY);
-            return; // outside the region's window: nothing to cast
+        // the cast window's rows are whole bands: this band's are cast, or none of them
+        let first = BLOCK * band;
+        let cast = first < self.cast.rows.end && first + rows > self.cast.rows.start;
+        let kept = if cast { cols.clone() } else { 0..0 };
+        let stale = &self.stale.cols;
+        for (row, line) in (first..).zip(out.chunks_mut(width)) {
+            if self.stale.rows.contains(&row) {
+                // the stale columns either side of those cast
+                line[stale.start..stale.end.min(kept.start).max(stale.start)].fill(Pixel::EMPTY);
+                line[stale.start.max(kept.end).min(stale.end)..stale.end].fill(Pixel::EMPTY);
+            }
         }
-        for line in out.chunks_mut(width) {
-            line[..cols.start].fill(Pixel::EMPTY);
-            line[cols.end..].fill(Pixel::EMPTY);
+        if !cast {
+            return; // outside the region's window: nothing to cast
         }
         match &self.path {
             Path::Rows(epipolar) => self.cut_rows(epipolar, band, cols, out, scratch),

@@ -8,7 +8,7 @@ use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
 use super::decode::{Light, MIDDLE, Stripes};
-use super::{Region, scan_pixels};
+use super::{Region, Scan, scan_pixels};
 use crate::noise::{Noise, PixelRng, stream};
 use crate::spec::{Calibration, Processing, SensorSpec};
 use crate::world::World;
@@ -62,7 +62,7 @@ impl Diffuse {
         stripes: &Stripes,
     ) -> Diffuse {
         let (binned, bin) = binned(sensor);
-        let image = scan_pixels(world, &binned, pose, seed, region, Vec::new());
+        let image = scan_pixels(world, &binned, pose, seed, region, Scan::default());
         let (width, height) = (image.width as usize, image.height as usize);
         let reach = sensor.noise.interreflection.diffuse_reach;
         // each lit cell's light as it leaves it, its patterns at full contrast
@@ -193,7 +193,7 @@ fn binned(sensor: &SensorSpec) -> (SensorSpec, u32) {
 /// sample stands for, cos·cos·area / π r²), `width` that patch's width, m. The spiral of
 /// samples is turned at random for each pixel (from `seed`).
 pub(super) fn gather(
-    image: &super::Scan,
+    image: &Scan,
     sensor: &SensorSpec,
     i: usize,
     reach: f32,
@@ -293,7 +293,7 @@ mod tests {
         };
         let pose = Affine3A::from_translation(Vec3::new(-0.2, 0.0, 0.0));
         let (image_sensor, _) = binned(&sensor);
-        let image = scan_pixels(&world, &image_sensor, &pose, 1, None, Vec::new());
+        let image = scan_pixels(&world, &image_sensor, &pose, 1, None, Scan::default());
         let reach = 0.05;
         // the rear wall's form factor from a point of the side wall, by quadrature
         let quadrature = |p: Vec3| {

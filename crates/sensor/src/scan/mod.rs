@@ -81,8 +81,8 @@ impl Pixel {
     }
 }
 
-/// An organized scan.
-#[derive(Clone, Debug, PartialEq)]
+/// An organized scan. (`Scan::default()` has no pixels: a buffer for [`scan_reusing`] to grow.)
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scan {
     /// Columns.
     pub width: u32,
@@ -137,7 +137,7 @@ impl Scan {
 /// # Ok::<(), sensor::Error>(())
 /// ```
 pub fn scan(world: &World, sensor: &SensorSpec, pose: &Affine3A, seed: u64) -> Scan {
-    scan_pixels(world, sensor, pose, seed, None, Vec::new())
+    scan_pixels(world, sensor, pose, seed, None, Scan::default())
 }
 
 /// The depth (camera z) of the nearest surface that a sparse grid of the camera's rays (every
@@ -186,21 +186,23 @@ pub fn scan_within(
     seed: u64,
     region: &Region,
 ) -> Scan {
-    scan_pixels(world, sensor, pose, seed, Some(region), Vec::new())
+    scan_pixels(world, sensor, pose, seed, Some(region), Scan::default())
 }
 
-/// [`scan`], or [`scan_within`] a region, into the allocation of `buffer` (the pixels of an
-/// earlier scan): a caller scanning frame after frame spares the mapping and page faults of a
-/// fresh megapixel buffer each time. The result is the same whatever the buffer held.
+/// [`scan`], or [`scan_within`] a region, into the allocation of `earlier`, a scan made before
+/// (with any sensor, or [`Scan::default`]): a caller scanning frame after frame spares the
+/// mapping and page faults of a fresh megapixel buffer each time, and, as the earlier scan's
+/// pixels outside its window are empty, a region scan rewrites only the two windows' pixels.
+/// The result is the same whatever scan it reuses.
 pub fn scan_reusing(
     world: &World,
     sensor: &SensorSpec,
     pose: &Affine3A,
     seed: u64,
     region: Option<&Region>,
-    buffer: Vec<Pixel>,
+    earlier: Scan,
 ) -> Scan {
-    scan_pixels(world, sensor, pose, seed, region, buffer)
+    scan_pixels(world, sensor, pose, seed, region, earlier)
 }
 
 fn scan_pixels(
@@ -209,23 +211,35 @@ fn scan_pixels(
     pose: &Affine3A,
     seed: u64,
     region: Option<&Region>,
-    mut pixels: Vec<Pixel>,
+    earlier: Scan,
 ) -> Scan {
     let k = &sensor.intrinsics;
     let width = k.width as usize;
-    // whatever a reused buffer holds is overwritten below, band by band while it is in cache
-    // (grown in parallel: a fresh buffer's pages are faulted in by both threads)
+    // an earlier scan of this size left its pixels outside its window empty: those within it
+    // are rewritten band by band while they are in cache (cast, or emptied); any other buffer
+    // is emptied whole, grown in parallel (a fresh buffer's pages faulted in by both threads)
     let size = width * k.height as usize;
-    pixels.truncate(size);
-    if pixels.capacity() < size {
-        pixels.reserve_exact(size - pixels.len());
-        advise_huge_pages(&mut pixels);
-    }
-    pixels.par_extend(rayon::iter::repeat_n(Pixel::EMPTY, size - pixels.len()));
+    let Scan {
+        mut pixels,
+        window: stale,
+        ..
+    } = earlier;
+    let same = (earlier.width, earlier.height) == (k.width, k.height) && pixels.len() == size;
+    let stale = if same {
+        stale
+    } else {
+        pixels.clear();
+        if pixels.capacity() < size {
+            pixels.reserve_exact(size);
+            advise_huge_pages(&mut pixels);
+        }
+        pixels.par_extend(rayon::iter::repeat_n(Pixel::EMPTY, size));
+        Window::default()
+    };
     let window = region
         .and_then(|reg| reg.pixel_window(k, pose))
         .unwrap_or_else(|| Window::full(k));
-    let mut capture = Capture::new(world, sensor, pose, seed, region, &window);
+    let mut capture = Capture::new(world, sensor, pose, seed, region, &window, stale);
     if sensor.noise.interreflection.diffuse_reach > 0.0 {
         capture.diffuse = capture
             .stripes

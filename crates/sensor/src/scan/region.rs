@@ -61,8 +61,8 @@ impl Region {
     }
 }
 
-/// A rectangle of pixels: columns `cols` of rows `rows`.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// A rectangle of pixels: columns `cols` of rows `rows` (none by default).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Window {
     /// Columns.
     pub cols: Range<usize>,

@@ -252,10 +252,11 @@ fn same_bytes_for_any_thread_count() {
     assert_ne!(bits(&one), bits(&pool_free(&world, &spec, 43)));
 }
 
-/// A scan into an earlier scan's buffer, whatever it holds, equals a fresh scan.
+/// A scan into an earlier scan's buffer equals a fresh scan, whatever the earlier scan was:
+/// of another camera, of the whole image, or of another region.
 #[test]
 fn scans_reusing_a_buffer_equal_fresh_ones() {
-    let spec = |camera| SensorSpec {
+    let noisy = |camera| SensorSpec {
         noise: Noise {
             axial: Axial {
                 sigma: 1e-3,
@@ -270,31 +271,38 @@ fn scans_reusing_a_buffer_equal_fresh_ones() {
         min: Vec3::new(-0.1, -0.1, 0.7),
         max: Vec3::new(0.1, 0.1, 1.6),
     };
-    let dirty = vec![
-        Pixel {
-            point: Vec3::ONE,
-            class: 9,
-            ..Pixel::EMPTY
-        };
-        20_000
-    ];
+    // another region, up and to the side: its window overlaps the first's in part
+    let aside = Region {
+        min: Vec3::new(0.0, -0.3, 0.7),
+        max: Vec3::new(0.3, 0.0, 1.6),
+    };
     // (a 400×300 buffer, 6 MB, spans huge pages: it is advised to use them as it grows)
     let cameras = [small_camera(120, 90, 100.0), small_camera(400, 300, 330.0)];
+    let pose = Affine3A::IDENTITY;
     for (camera, region) in cameras
         .iter()
         .flat_map(|&k| [(k, None), (k, Some(&region))])
     {
-        let spec = spec(camera);
-        let fresh = scan_reusing(&world, &spec, &Affine3A::IDENTITY, 3, region, Vec::new());
-        let reused = scan_reusing(&world, &spec, &Affine3A::IDENTITY, 3, region, dirty.clone());
+        let spec = noisy(camera);
+        let fresh = scan_reusing(&world, &spec, &pose, 3, region, Scan::default());
         // (compared as text: the empty pixels' NaNs are unequal to themselves)
         let text = |s: &Scan| format!("{s:?}");
         assert!(fresh.valid_count() > 200, "{}", fresh.valid_count());
-        assert_eq!(text(&fresh), text(&reused));
         let plain = match region {
-            Some(r) => scan_within(&world, &spec, &Affine3A::IDENTITY, 3, r),
-            None => scan(&world, &spec, &Affine3A::IDENTITY, 3),
+            Some(r) => scan_within(&world, &spec, &pose, 3, r),
+            None => scan(&world, &spec, &pose, 3),
         };
         assert_eq!(text(&fresh), text(&plain));
+        let earlier = cameras.iter().flat_map(|&k| {
+            let other = noisy(k);
+            [
+                scan(&world, &other, &pose, 5),
+                scan_within(&world, &other, &pose, 5, &aside),
+            ]
+        });
+        for earlier in earlier {
+            let reused = scan_reusing(&world, &spec, &pose, 3, region, earlier);
+            assert_eq!(text(&fresh), text(&reused));
+        }
     }
 }
