@@ -89,9 +89,10 @@ impl Epipolar {
                     let row = k.fy * (v.y as f64 / v.z as f64) + k.cy;
                     (m.0.min(row), m.1.max(row))
                 });
-                // a row to spare either side (casts truncate: floor(lo) - 1 to floor(hi) + 1)
+                // the rows from its first to its last, a millionth of a row to spare for
+                // rounding (casts truncate)
                 let clamp = |r: f64| (r - rows.start as f64).clamp(0.0, rows.len() as f64) as usize;
-                clamp(lo - 1.0)..clamp(hi + 2.0)
+                clamp(lo - 1e-6)..clamp(hi + (1.0 + 1e-6))
             })
             .collect();
         let (mut starts, mut members) = (Vec::new(), Vec::new());
@@ -147,10 +148,11 @@ impl Epipolar {
         let (first, end) = (cols.start as f64, cols.end as f64);
         for (i, s) in segments.iter().enumerate() {
             let [x0, x1] = s.camera;
-            // a column either side to spare: casts round towards zero (no floor call on
-            // baseline x86-64), and each column is tested exactly below
-            let from = (column(x0) - 1.0).clamp(first, end) as usize;
-            let to = (column(x1) + 2.0).clamp(first, end) as usize;
+            // the columns from the segment's first to its last, a millionth of a column to
+            // spare for rounding (casts round towards zero: no floor call on baseline x86-64);
+            // each column is tested exactly below
+            let from = (column(x0) - 1e-6).clamp(first, end) as usize;
+            let to = (column(x1) + (1.0 + 1e-6)).clamp(first, end) as usize;
             let [a, b, c] = s.line;
             if c == 0.0 {
                 continue; // edge-on: in a plane through the camera
