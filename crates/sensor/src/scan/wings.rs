@@ -148,23 +148,29 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
         .into_par_iter()
         .map(|band| {
             let band_rows = band * BAND..((band + 1) * BAND).min(h);
-            if !changed[band_rows.start * w..band_rows.end * w].contains(&true) {
+            let in_band = &changed[band_rows.start * w..band_rows.end * w];
+            let count = in_band.iter().filter(|&&c| c).count();
+            if count == 0 {
                 return Vec::new();
             }
             let first = band_rows.start.saturating_sub(radius);
-            let lights: Vec<Light> = (first..(band_rows.end + radius).min(h))
-                .flat_map(|r| (0..w).map(move |c| (r, c)))
-                .map(|(r, c)| {
-                    let p = &pixels[index(r, c)];
-                    if p.intensity > 0.0 && sinks.within(&reach(r, h), &reach(c, w)) > 0 {
-                        let column = stripes.frustum.column(p.clean);
-                        Light::new(p.intensity, p.snr, column, [1.0; 3], stripes, &noise.snr)
-                    } else {
-                        Light::default()
-                    }
-                })
-                .collect();
-            let mut out = Vec::new();
+            // (collected from a product of ranges, whose length an iterator does not know:
+            // grown in one step)
+            let rows = first..(band_rows.end + radius).min(h);
+            let mut lights = Vec::with_capacity(rows.len() * w);
+            lights.extend(
+                rows.flat_map(|r| (0..w).map(move |c| (r, c)))
+                    .map(|(r, c)| {
+                        let p = &pixels[index(r, c)];
+                        if p.intensity > 0.0 && sinks.within(&reach(r, h), &reach(c, w)) > 0 {
+                            let column = stripes.frustum.column(p.clean);
+                            Light::new(p.intensity, p.snr, column, [1.0; 3], stripes, &noise.snr)
+                        } else {
+                            Light::default()
+                        }
+                    }),
+            );
+            let mut out = Vec::with_capacity(count);
             for r in band_rows {
                 for c in (0..w).filter(|&c| changed[r * w + c]) {
                     let mut sum = Light::default();
