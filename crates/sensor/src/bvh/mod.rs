@@ -2,8 +2,8 @@
 //! leaf triangles are stored in traversal order (`build`), and walked by packets of rays
 //! (`traverse`): each node's four boxes are tested once per packet against the cone the rays
 //! span from the box of their origins, nearest child first, and each triangle against four
-//! rays at once with a watertight test (Woop et al. 2013; `triangle`). A single ray walks the same box tests without a
-//! packet's bookkeeping, and tests each triangle alone.
+//! rays at once with a watertight test (Woop et al. 2013; `triangle`). A single ray walks the
+//! same box tests without a packet's bookkeeping, and tests each triangle alone.
 
 mod build;
 mod traverse;
