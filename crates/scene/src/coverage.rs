@@ -275,22 +275,47 @@ pub fn overlap(surface: &Surface, views: &[Vec<Vec3>], radius: f32) -> Vec<Vec<f
         .collect()
 }
 
-/// Points binned in cubes of a given size, to find those near a point.
+/// Points binned by cells of a given size, for finding those near a point: each cell's
+/// points under a hash of the cell, the buckets in one array (a counting sort, linear in the
+/// points).
 struct Grid {
     size: f32,
-    /// (cell key, point index), sorted by key.
+    /// log2 of the number of buckets.
+    bits: u32,
+    /// Bucket b's items are `items[start[b]..start[b + 1]]`.
+    start: Vec<u32>,
+    /// (cell key, point index).
     items: Vec<(u64, u32)>,
 }
 
 impl Grid {
     fn new(points: &[Vec3], size: f32) -> Grid {
-        let mut items: Vec<(u64, u32)> = points
-            .iter()
-            .enumerate()
-            .map(|(i, &p)| (key(cell(p, size)), i as u32))
-            .collect();
-        items.sort_unstable();
-        Grid { size, items }
+        let keys: Vec<u64> = points.iter().map(|&p| key(cell(p, size))).collect();
+        // about two buckets per point
+        let bits = (2 * points.len())
+            .max(2)
+            .next_power_of_two()
+            .trailing_zeros();
+        let mut start = vec![0u32; (1 << bits) + 1];
+        for &k in &keys {
+            start[bucket(k, bits) + 1] += 1;
+        }
+        for b in 1..start.len() {
+            start[b] += start[b - 1];
+        }
+        let mut fill = start.clone();
+        let mut items = vec![(0, 0); points.len()];
+        for (i, &k) in keys.iter().enumerate() {
+            let b = bucket(k, bits);
+            items[fill[b] as usize] = (k, i as u32);
+            fill[b] += 1;
+        }
+        Grid {
+            size,
+            bits,
+            start,
+            items,
+        }
     }
 
     /// The indices of the points of `points` within `radius` (at most the cell size) of `p`.
@@ -303,11 +328,12 @@ impl Grid {
         let c = cell(p, self.size);
         (0..27).flat_map(move |n| {
             let k = key(c + glam::IVec3::new(n % 3 - 1, n / 3 % 3 - 1, n / 9 - 1));
-            let from = self.items.partition_point(|e| e.0 < k);
-            self.items[from..]
+            let b = bucket(k, self.bits);
+            self.items[self.start[b] as usize..self.start[b + 1] as usize]
                 .iter()
-                .take_while(move |e| e.0 == k)
-                .filter(move |e| points[e.1 as usize].distance_squared(p) <= radius * radius)
+                .filter(move |e| {
+                    e.0 == k && points[e.1 as usize].distance_squared(p) <= radius * radius
+                })
                 .map(|e| e.1)
         })
     }
@@ -318,14 +344,26 @@ impl Grid {
     }
 }
 
+/// The cell holding `p`: each coordinate over `size`, rounded down.
 fn cell(p: Vec3, size: f32) -> glam::IVec3 {
-    (p / size).floor().as_ivec3()
+    // a cast rounds towards zero (no call to floor on baseline x86-64): one less below zero
+    let floor = |x: f32| {
+        let i = x as i32;
+        i.saturating_sub(i32::from(x < i as f32))
+    };
+    let q = p / size;
+    glam::IVec3::new(floor(q.x), floor(q.y), floor(q.z))
 }
 
 /// A cell's key: its coordinates offset into 21 bits each.
 fn key(c: glam::IVec3) -> u64 {
     let k = |x: i32| ((x + (1 << 20)) as u64) & 0x1f_ffff;
     k(c.x) | k(c.y) << 21 | k(c.z) << 42
+}
+
+/// The bucket of the cell with key `k` among 2^`bits`, `bits` ≥ 1 (Fibonacci hashing).
+fn bucket(k: u64, bits: u32) -> usize {
+    (k.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - bits)) as usize
 }
 
 /// The share of the samples seen: in total, and per part kind present (in `PartKind` order).

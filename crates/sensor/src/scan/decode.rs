@@ -6,9 +6,9 @@ use std::f32::consts::TAU;
 
 use glam::Vec3;
 
-use super::Pixel;
 use super::cast::Capture;
 use super::measure::noisy_range;
+use super::{Pixel, round};
 use crate::noise::{PixelRng, Snr};
 use crate::spec::{Frustum, SensorSpec};
 
@@ -162,7 +162,7 @@ pub(super) fn decode(
     // sees (a single surface's patterns agree)
     let unwrap = |[c, s]: [f32; 2], period: f32, coarser: f32| {
         let within = s.atan2(c) / TAU * period;
-        let column = within + period * ((coarser - within) / period).round();
+        let column = within + period * round((coarser - within) / period);
         (column, (coarser - column).abs() / period)
     };
     let coarse = sum.column / sum.coarse;

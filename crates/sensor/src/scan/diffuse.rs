@@ -8,7 +8,7 @@ use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 
 use super::decode::{Light, MIDDLE, Stripes};
-use super::{Region, Scan, scan_pixels};
+use super::{Region, Scan, floor, round, scan_pixels};
 use crate::noise::{Noise, PixelRng, stream};
 use crate::spec::{Calibration, Processing, SensorSpec};
 use crate::world::World;
@@ -127,7 +127,7 @@ impl Diffuse {
             (col as f32 + 0.5) / bin - 0.5,
             (row as f32 + 0.5) / bin - 0.5,
         );
-        let (c0, r0) = (u.floor(), v.floor());
+        let (c0, r0) = (floor(u), floor(v));
         let (fu, fv) = (u - c0, v - r0);
         let corners = [
             (0, 0, (1.0 - fu) * (1.0 - fv)),
@@ -228,7 +228,7 @@ pub(super) fn gather(
         if !(u >= -0.5 && v >= -0.5 && u < w as f32 - 0.5 && v < h as f32 - 0.5) {
             continue;
         }
-        let index = v.round() as usize * w + u.round() as usize;
+        let index = round(v) as usize * w + round(u) as usize;
         let q = &image.pixels[index];
         if q.intensity <= 0.0 || q.clean.x.is_nan() {
             continue;

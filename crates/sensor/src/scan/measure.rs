@@ -12,23 +12,9 @@ use super::decode::{Light, decode};
 use super::diffuse::FAINT;
 use super::light::LitPixel;
 use super::mirror::{Mirrored, mirrored};
-use super::{Pixel, Scan};
+use super::{Pixel, Scan, round};
 use crate::noise::{PixelRng, stream};
 use crate::spec::{Model, SensorSpec};
-
-/// `f32::round` (halves away from zero) without its libm call (baseline x86-64 has no rounding
-/// instruction): the integer part by a cast, then the fraction decides, without a branch (with
-/// noise under the quantum, it is as good as random).
-#[inline]
-fn round(x: f32) -> f32 {
-    let a = x.abs();
-    if a.is_nan() || a >= 1e18 {
-        return x; // NaN, infinite, or already whole
-    }
-    let whole = a as i64 as f32;
-    let rounded = whole + f32::from(u8::from(a - whole >= 0.5));
-    rounded.copysign(x)
-}
 
 /// A linear colour with noise of standard deviation `sigma` on each channel, as 8-bit sRGB.
 /// The noise of each channel is the sum of two uniform draws (a triangular distribution of that
@@ -302,32 +288,4 @@ pub(super) fn window_filter(scan: &mut Scan, window: usize, fraction: f32, inlie
                 }
             }
         });
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn round_is_f32_round() {
-        let special = [
-            0.5,
-            -0.5,
-            1.5,
-            2.5,
-            0.499_999_97,
-            8_388_607.5,
-            1e18,
-            f32::MAX,
-            -0.0,
-        ];
-        let values = (-200_000..200_000)
-            .map(|i| i as f32 * 0.25 + 0.1 * (i % 7) as f32)
-            .chain(special)
-            .chain([f32::INFINITY, f32::NEG_INFINITY]);
-        for x in values {
-            assert_eq!(round(x).to_bits(), x.round().to_bits(), "{x}");
-        }
-        assert!(round(f32::NAN).is_nan());
-    }
 }

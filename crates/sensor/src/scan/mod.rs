@@ -293,6 +293,37 @@ fn reach(at: usize, radius: usize, len: usize) -> Range<usize> {
     at.saturating_sub(radius)..(at + radius + 1).min(len)
 }
 
+/// `f32::round` (halves away from zero) without its libm call (baseline x86-64 has no rounding
+/// instruction): the integer part by a cast, then the fraction decides, without a branch (with
+/// noise under the quantum, it is as good as random).
+#[inline]
+fn round(x: f32) -> f32 {
+    let a = x.abs();
+    if a.is_nan() || a >= 1e18 {
+        return x; // NaN, infinite, or already whole
+    }
+    let whole = a as i64 as f32;
+    let rounded = whole + f32::from(u8::from(a - whole >= 0.5));
+    rounded.copysign(x)
+}
+
+/// `f32::floor` without its libm call: the cast truncates towards zero, one less below a
+/// negative fraction.
+#[inline]
+fn floor(x: f32) -> f32 {
+    if x.is_nan() || x.abs() >= 1e18 {
+        return x; // NaN, infinite, or already whole
+    }
+    let whole = x as i64 as f32;
+    if x == whole {
+        x // whole (and -0 stays -0)
+    } else if x < whole {
+        whole - 1.0
+    } else {
+        whole
+    }
+}
+
 /// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB) where it can: a
 /// fresh megapixel buffer then takes hundreds of page faults instead of tens of thousands.
 #[cfg(target_os = "linux")]
@@ -310,3 +341,34 @@ fn advise_huge_pages<T>(v: &mut Vec<T>) {
 
 #[cfg(not(target_os = "linux"))]
 fn advise_huge_pages<T>(_: &mut Vec<T>) {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_and_floor_are_f32s() {
+        let special = [
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            0.499_999_97,
+            -0.999_999_94,
+            8_388_607.5,
+            1e18,
+            f32::MAX,
+            -0.0,
+        ];
+        let values = (-200_000..200_000)
+            .map(|i| i as f32 * 0.25 + 0.1 * (i % 7) as f32)
+            .chain(special)
+            .chain(special.map(|x| -x))
+            .chain([f32::INFINITY, f32::NEG_INFINITY]);
+        for x in values {
+            assert_eq!(round(x).to_bits(), x.round().to_bits(), "{x}");
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x}");
+        }
+        assert!(round(f32::NAN).is_nan() && floor(f32::NAN).is_nan());
+    }
+}
