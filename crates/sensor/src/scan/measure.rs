@@ -73,7 +73,7 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, mirror: Option<&Mirrored>
     // the light of other surfaces: the one a shiny surface mirrors, and the diffuse light of
     // those around it; the pixel decodes them and its own stripes together
     if let Some(stripes) = &setup.stripes {
-        let mirrored = mirror.and_then(|seen| mirrored(setup, stripes, lit, seen));
+        let mirrored = mirror.map(|seen| mirrored(setup, stripes, lit, seen));
         let diffuse = setup
             .diffuse
             .as_ref()
