@@ -163,9 +163,15 @@ class ViewPlanningEnv(gymnasium.Env):
         self.station = Station(self.config, index, clamping, self.overrides, **self.coverage_rule)
         self.index, self.clamping = index, clamping
         self.centre = np.array(self.station.centre, dtype=np.float32)
-        self.cloud = np.zeros((0, 3), np.float32)
-        self.cloud_normals = np.zeros((0, 3), np.float32)
-        self.cloud_view = np.zeros(0, np.int32)
+        # the cloud so far: views into arrays kept from episode to episode and grown by
+        # doubling, so that a step copies only its own points into pages already in use
+        if not hasattr(self, "_store"):
+            self._store = (
+                np.zeros((0, 3), np.float32),
+                np.zeros((0, 3), np.float32),
+                np.zeros(0, np.int32),
+            )
+        self.cloud, self.cloud_normals, self.cloud_view = (a[:0] for a in self._store)
         self.coverage = 0.0
         self.last_direction: np.ndarray | None = None
         self.taken: set[int] = set()
@@ -179,9 +185,7 @@ class ViewPlanningEnv(gymnasium.Env):
             self.taken.add(int(action))
         got = self.station.capture(*view)
         n = self.station.views - 1
-        self.cloud = np.concatenate([self.cloud, got["xyz"] - self.centre])
-        self.cloud_normals = np.concatenate([self.cloud_normals, got["normal"]])
-        self.cloud_view = np.concatenate([self.cloud_view, np.full(len(got["xyz"]), n, np.int32)])
+        self._add(got["xyz"], got["normal"], n)
         self.coverage = self.station.coverage()[0]
         direction = _direction(view)
         travel = (
@@ -196,6 +200,26 @@ class ViewPlanningEnv(gymnasium.Env):
         info = self._info(got["gain"])
         info["travel"] = travel
         return self._observation(), float(reward), terminated, truncated, info
+
+    def _add(self, xyz: np.ndarray, normals: np.ndarray, view: int) -> None:
+        """Appends a view's points (world; centred on the motor as they go in), their normals and
+        the view's number to the cloud."""
+        n, m = len(self.cloud), len(xyz)
+        if n + m > len(self._store[0]):
+            size = max(2 * len(self._store[0]), n + m, 1 << 16)
+            grown = []
+            for old in self._store:
+                new = np.empty((size, *old.shape[1:]), old.dtype)
+                new[:n] = old[:n]
+                grown.append(new)
+            self._store = tuple(grown)
+        store_xyz, store_normals, store_view = self._store
+        np.subtract(xyz, self.centre, out=store_xyz[n : n + m])
+        store_normals[n : n + m] = normals
+        store_view[n : n + m] = view
+        self.cloud = store_xyz[: n + m]
+        self.cloud_normals = store_normals[: n + m]
+        self.cloud_view = store_view[: n + m]
 
     def pose_of(self, action) -> tuple[float, float, float, float]:
         """The view (azimuth, elevation, distance, roll) an action stands for: a view set's view, or
@@ -220,7 +244,7 @@ class ViewPlanningEnv(gymnasium.Env):
             else (self.cloud_view[pick] == latest).astype(np.int8)
         )
         obs = {
-            "points": np.clip(points, -EXTENT, EXTENT).astype(np.float32),
+            "points": np.clip(points, -EXTENT, EXTENT, out=points),
             "new": new,
             "coverage": np.array([self.coverage], np.float32),
         }
@@ -228,7 +252,7 @@ class ViewPlanningEnv(gymnasium.Env):
             normals = (
                 np.zeros((self.num_points, 3), np.float32) if empty else self.cloud_normals[pick]
             )
-            obs["normals"] = np.clip(normals, -1.0, 1.0).astype(np.float32)
+            obs["normals"] = np.clip(normals, -1.0, 1.0, out=normals)
         return obs
 
     def _info(self, gain: float) -> dict:
