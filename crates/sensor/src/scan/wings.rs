@@ -206,9 +206,18 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
             out
         })
         .collect();
-    for (i, px) in decoded.into_iter().flatten() {
-        scan.pixels[i] = px;
-    }
+    // written band by band, in parallel: a band's pixels lie in its own rows
+    let first = window.rows.start * stride;
+    scan.pixels[first..]
+        .par_chunks_mut(BAND * stride)
+        .zip(decoded)
+        .enumerate()
+        .for_each(|(band, (rows, out))| {
+            let base = first + band * BAND * stride;
+            for (i, px) in out {
+                rows[i - base] = px;
+            }
+        });
 }
 
 /// `f` of every cell (row, column) of an `h`×`w` grid, row by row.
