@@ -25,7 +25,7 @@ pub(super) struct Mirrored {
 /// meets. The rays of neighbouring pixels on one smooth surface run side by side from nearby
 /// points, and are cast together: runs of up to four consecutive shiny pixels whose rays stay
 /// within [`COHERENT`] of the run's first, as one packet; so are the shadow rays from the
-/// projector to the points they meet.
+/// projector to the points they meet (within [`SHADOW_COHERENT`]).
 pub(super) fn cast_mirrors(
     setup: &Capture,
     lits: &[Option<LitPixel>],
