@@ -148,6 +148,12 @@ class ViewPlanningEnv(gymnasium.Env):
             observed["normals"] = spaces.Box(-1.0, 1.0, (num_points, 3), np.float32)
         self.observation_space = spaces.Dict(observed)
         self.station: Station | None = None
+        # the points, normals and view numbers of the episode's cloud (see `_add`)
+        self._store = (
+            np.zeros((0, 3), np.float32),
+            np.zeros((0, 3), np.float32),
+            np.zeros(0, np.int32),
+        )
 
     # -- the episode ------------------------------------------------------------------------
 
@@ -165,12 +171,6 @@ class ViewPlanningEnv(gymnasium.Env):
         self.centre = np.array(self.station.centre, dtype=np.float32)
         # the cloud so far: views into arrays kept from episode to episode and grown by
         # doubling, so that a step copies only its own points into pages already in use
-        if not hasattr(self, "_store"):
-            self._store = (
-                np.zeros((0, 3), np.float32),
-                np.zeros((0, 3), np.float32),
-                np.zeros(0, np.int32),
-            )
         self.cloud, self.cloud_normals, self.cloud_view = (a[:0] for a in self._store)
         self.coverage = 0.0
         self.last_direction: np.ndarray | None = None

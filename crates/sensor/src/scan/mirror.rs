@@ -10,13 +10,19 @@ use super::cast::{Capture, gap};
 use super::decode::{Light, MIDDLE, Stripes};
 use super::light::LitPixel;
 use crate::bvh::Hit;
+use crate::spec::Frustum;
 use crate::world::SurfaceHit;
 
-/// What a shiny pixel's mirror ray meets: the surface point (camera frame) and its hit.
+/// What a shiny pixel's mirror ray meets: the surface point (camera frame) and its hit, with
+/// the projector's light there: its distance, the unit direction to it (camera frame) and the
+/// cosine of its incidence.
 #[derive(Clone, Copy)]
 pub(super) struct Mirrored {
     q: Vec3,
     hit: SurfaceHit,
+    distance: f32,
+    to_light: Vec3,
+    cos_light: f32,
 }
 
 /// For each pixel of a row (`lits` and their pixels `line`), what its mirror ray meets where
@@ -34,7 +40,10 @@ pub(super) fn cast_mirrors(
 ) {
     out.clear();
     out.resize(lits.len(), None);
-    if setup.projector.is_none() || !setup.sensor.noise.interreflection.enabled {
+    let Some((frustum, projector)) = setup.projector else {
+        return;
+    };
+    if !setup.sensor.noise.interreflection.enabled {
         return;
     }
     let shiny = lits
@@ -54,25 +63,22 @@ pub(super) fn cast_mirrors(
         if held == run.len()
             || held > 0 && (d.dot(dir) < COHERENT.0 || o.distance_squared(from) > COHERENT.1)
         {
-            cast_run(setup, &run[..held], out);
+            cast_run(setup, projector, &run[..held], out);
             held = 0;
         }
         run[held] = ray;
         held += 1;
     }
     if held > 0 {
-        cast_run(setup, &run[..held], out);
+        cast_run(setup, projector, &run[..held], out);
     }
-    shade(setup, out);
+    shade(setup, &frustum, projector, out);
 }
 
 /// Drops from `mirrors` the points the projector does not light: outside its field, facing
 /// away from it, or in a shadow (the shadow rays of consecutive points whose directions from
 /// the projector stay within [`SHADOW_COHERENT`] of the first's cast as one packet).
-fn shade(setup: &Capture, mirrors: &mut [Option<Mirrored>]) {
-    let Some((frustum, projector)) = setup.projector else {
-        return;
-    };
+fn shade(setup: &Capture, frustum: &Frustum, projector: Vec3, mirrors: &mut [Option<Mirrored>]) {
     let (pose, world) = (&setup.pose, setup.world);
     let lamp = pose.transform_point3(projector);
     // a run of shadow rays (pixel index, world direction from the projector, length) cast
@@ -99,18 +105,18 @@ fn shade(setup: &Capture, mirrors: &mut [Option<Mirrored>]) {
     let mut run = [(0, Vec3::ZERO, 0.0); 4];
     let mut held = 0;
     for i in 0..mirrors.len() {
-        let Some(Mirrored { q, hit }) = mirrors[i] else {
+        let Some(m) = mirrors[i] else {
             continue;
         };
-        let to_light = projector - q;
-        let distance = to_light.length();
-        let l = to_light / distance;
-        let cos_light = Vec3::from(setup.to_camera * Vec3A::from(hit.normal)).dot(l);
-        if !frustum.lights(q) || cos_light <= 0.0 {
+        if !frustum.lights(m.q) || m.cos_light <= 0.0 {
             mirrors[i] = None; // outside the field, or facing away
             continue;
         }
-        let ray = (i, pose.transform_vector3(-l), distance - gap(distance));
+        let ray = (
+            i,
+            pose.transform_vector3(-m.to_light),
+            m.distance - gap(m.distance),
+        );
         if held == run.len() || held > 0 && ray.1.dot(run[0].1) < SHADOW_COHERENT {
             cast(&run[..held], mirrors);
             held = 0;
@@ -136,12 +142,26 @@ const COHERENT: (f32, f32) = (0.998_63, 1e-4);
 const SHADOW_COHERENT: f32 = 0.999_985;
 
 /// Casts a run of mirror rays (pixel index, camera-frame origin and direction), into `out`:
-/// one ray alone, more as a packet.
-fn cast_run(setup: &Capture, run: &[(usize, Vec3, Vec3)], out: &mut [Option<Mirrored>]) {
+/// one ray alone, more as a packet. `projector` is the projector's centre (camera frame).
+fn cast_run(
+    setup: &Capture,
+    projector: Vec3,
+    run: &[(usize, Vec3, Vec3)],
+    out: &mut [Option<Mirrored>],
+) {
     let (pose, world) = (&setup.pose, setup.world);
-    let seen = |hit: &Hit, from: Vec3, dir: Vec3, world_dir: Vec3| Mirrored {
-        q: from + hit.t * dir,
-        hit: world.surface(hit, world_dir),
+    let seen = |hit: &Hit, from: Vec3, dir: Vec3, world_dir: Vec3| {
+        let (q, hit) = (from + hit.t * dir, world.surface(hit, world_dir));
+        let to_light = projector - q;
+        let distance = to_light.length();
+        let l = to_light / distance;
+        Mirrored {
+            q,
+            hit,
+            distance,
+            to_light: l,
+            cos_light: Vec3::from(setup.to_camera * Vec3A::from(hit.normal)).dot(l),
+        }
     };
     if let [(i, from, dir)] = *run {
         let world_dir = pose.transform_vector3(dir);
@@ -181,15 +201,14 @@ pub(super) fn mirrored(
     lit: &LitPixel,
     seen: &Mirrored,
 ) -> Light {
-    let (frustum, projector) = setup
-        .projector
-        .expect("a mirror ray is cast with a projector");
-    let sensor = setup.sensor;
-    let Mirrored { q, hit } = *seen;
-    let to_light = projector - q;
-    let distance = to_light.length();
-    let l = to_light / distance;
-    let cos_light = Vec3::from(setup.to_camera * Vec3A::from(hit.normal)).dot(l);
+    let (frustum, sensor) = (&stripes.frustum, setup.sensor);
+    let Mirrored {
+        q,
+        hit,
+        distance,
+        cos_light,
+        ..
+    } = *seen;
     let light = cos_light * (sensor.reference_range / distance).powi(2);
     let signal = lit.specular * hit.material.reflectivity * light;
     // the lobe spreads the mirror's image over σ 2·lobe radians: 2·lobe·t across at the
