@@ -1,6 +1,6 @@
 //! Indexed triangle meshes and their affine transforms.
 
-use glam::{Affine3A, Vec3};
+use glam::{Affine3A, DVec3, Vec3};
 use serde::Serialize;
 
 /// An indexed triangle mesh in metres; triangles wind counter-clockwise seen from outside.
@@ -102,9 +102,10 @@ impl Mesh {
     // kept out of line: inlined into its callers' iterator chains it ran several times slower
     #[inline(never)]
     pub fn signed_volume(&self) -> f64 {
+        let positions: Vec<DVec3> = self.positions.iter().map(|p| p.as_dvec3()).collect();
         let mut sum = 0.0f64;
         for t in &self.triangles {
-            let [a, b, c] = t.map(|i| self.positions[i as usize].as_dvec3());
+            let [a, b, c] = t.map(|i| positions[i as usize]);
             sum += a.dot(b.cross(c));
         }
         sum / 6.0

@@ -456,17 +456,29 @@ type Piece = (u32, u32, u32, i32);
 /// The hot grid points, sorted: the `corners` and the rounded crossings of the segments.
 fn hot_points(segments: &[Segment], mut points: Vec<IVec2>, cells: &Cells) -> Vec<IVec2> {
     let bins = cells.bin(segments.iter().map(|s| (s.0, s.1)));
+    let boxes: Vec<[IVec2; 2]> = segments
+        .iter()
+        .map(|s| [s.0.min(s.1), s.0.max(s.1)])
+        .collect();
+    // a cell's segments by the left of their boxes: each one meets only those after it that
+    // start left of its right end
+    let mut bin: Vec<u32> = Vec::new();
     for c in 0..bins.start.len() - 1 {
-        let bin = &bins.items[bins.start[c] as usize..bins.start[c + 1] as usize];
+        bin.clear();
+        bin.extend_from_slice(&bins.items[bins.start[c] as usize..bins.start[c + 1] as usize]);
+        bin.sort_unstable_by_key(|&i| boxes[i as usize][0].x);
         for (k, &i) in bin.iter().enumerate() {
             let (a0, a1, _) = segments[i as usize];
-            let (alo, ahi) = (a0.min(a1), a0.max(a1));
+            let [alo, ahi] = boxes[i as usize];
             for &j in &bin[k + 1..] {
-                let (b0, b1, _) = segments[j as usize];
-                let (lo, hi) = (alo.max(b0.min(b1)), ahi.min(b0.max(b1)));
-                if lo.x > hi.x || lo.y > hi.y {
+                let [blo, bhi] = boxes[j as usize];
+                if blo.x > ahi.x {
+                    break;
+                }
+                if blo.y > ahi.y || alo.y > bhi.y {
                     continue;
                 }
+                let (b0, b1, _) = segments[j as usize];
                 // each crossing once: in its own cell
                 if let Some(p) = crossing(a0, a1, b0, b1)
                     && cells.index(p) == c
@@ -1150,9 +1162,10 @@ impl Arrangement {
         };
         // caps: faces of the same spans that share an edge are one region, capped as one
         // polygon whose boundary is the half-edges between different spans
-        let differ = |h: u32| {
-            spans[self.face[h as usize] as usize] != spans[self.face[(h ^ 1) as usize] as usize]
-        };
+        let differs: Vec<bool> = (0..self.ends.len())
+            .map(|e| spans[self.face[2 * e] as usize] != spans[self.face[2 * e + 1] as usize])
+            .collect();
+        let differ = |h: u32| differs[(h / 2) as usize];
         let mut region: Vec<u32> = (0..spans.len() as u32).collect();
         for e in 0..self.ends.len() as u32 {
             if !differ(2 * e) {
