@@ -541,6 +541,47 @@ fn bolt_rotations_same_and_random() {
 }
 
 #[test]
+fn a_slots_recess_lies_at_its_bolts_angle() {
+    // the direction of the slot across each bolt's drive face, counter-clockwise about the
+    // bolt's outward normal (-axis) from a fixed direction in the face: the principal axis of
+    // the face's vertices (the rim, a regular polygon, adds the same in every direction)
+    let slot_angles = |deg: f32| -> Vec<f64> {
+        let m = build(
+            &params(&[
+                ("bolt_drive", Value::Text("slot".into())),
+                ("bolt_rotation_deg", Value::Num(deg as f64)),
+            ]),
+            Detail::Normal,
+        );
+        m.attributes
+            .bolts
+            .iter()
+            .map(|b| {
+                let mesh = &m.parts.iter().find(|p| p.name == b.name).unwrap().mesh;
+                let n = -b.axis.as_dvec3();
+                let e1 = n.any_orthonormal_vector();
+                let e2 = n.cross(e1);
+                let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
+                for p in &mesh.positions {
+                    let d = (*p - b.head_centre).as_dvec3();
+                    if d.dot(n).abs() < 1e-7 {
+                        let (x, y) = (d.dot(e1), d.dot(e2));
+                        (sxx, syy, sxy) = (sxx + x * x, syy + y * y, sxy + x * y);
+                    }
+                }
+                0.5 * (2.0 * sxy).atan2(sxx - syy)
+            })
+            .collect()
+    };
+    let (straight, turned) = (slot_angles(0.0), slot_angles(30.0));
+    assert!(straight.len() >= 4 && straight.len() == turned.len());
+    for (a, b) in straight.iter().zip(&turned) {
+        let turn = (b - a).to_degrees().rem_euclid(180.0);
+        assert!((turn - 30.0).abs() < 0.5, "the slot turned {turn}° for 30°");
+    }
+}
+
+#[test]
 fn every_drive_builds_a_distinct_recess() {
     let meshes: Vec<_> = ["torx", "slot", "cross", "allen"]
         .iter()

@@ -7,6 +7,8 @@
 //! Ø3 mm neck, the thread and a cone to a Ø1 mm tip. The thread is turned as a plain cylinder: it
 //! sits inside the housing in every assembled motor, so no sensor sees it.
 
+use std::sync::OnceLock;
+
 use glam::Vec2;
 
 use super::shapes::{Tess, rect};
@@ -59,18 +61,18 @@ pub fn face_inset(drive: BoltDrive) -> f32 {
     }
 }
 
-/// A bolt along local +z: the drive face at z = 0, the head below it, the thread below the head.
-/// The recess is turned by `rotation` radians about the axis.
-pub fn bolt(t: Tess, drive: BoltDrive, rotation: f32) -> Mesh {
-    let turn = Vec2::from_angle(rotation);
-    let recess = Pocket {
-        outline: recess_outline(t, drive)
-            .into_iter()
-            .map(|p| turn.rotate(p))
-            .collect(),
-        depth: recess_depth(drive),
-    };
-    t.revolve(&profile(t, drive), &[recess])
+/// A bolt of `drive` along local +z: the drive face at z = 0, the head below it, the thread
+/// below the head, the recess unturned. The same in every motor: built once per detail and
+/// drive; a bolt in place is this turned about z and moved.
+pub fn bolt(t: Tess, drive: BoltDrive) -> &'static Mesh {
+    static BUILT: [[OnceLock<Mesh>; 4]; 3] = [const { [const { OnceLock::new() }; 4] }; 3];
+    BUILT[t.0 as usize][drive as usize].get_or_init(|| {
+        let recess = Pocket {
+            outline: recess_outline(t, drive),
+            depth: recess_depth(drive),
+        };
+        t.revolve(&profile(t, drive), &[recess])
+    })
 }
 
 /// The (r, z) profile from the tip on the axis up to the rim of the drive face.

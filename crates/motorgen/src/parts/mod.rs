@@ -207,8 +207,8 @@ impl Assembly {
         rotation_deg: f32,
         explode_cm: Vec3,
     ) {
-        let mesh =
-            bolt::bolt(t, p.bolt_drive, rotation_deg.to_radians()).transformed(&frame(head, -axis));
+        let place = frame(head, -axis) * Affine3A::from_rotation_z(rotation_deg.to_radians());
+        let mesh = bolt::bolt(t, p.bolt_drive).clone().transformed(&place);
         let (name, instance) = self.add(kind, mesh, explode_cm);
         self.bolts.push(BoltAttr {
             name,
