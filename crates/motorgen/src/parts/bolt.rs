@@ -148,7 +148,7 @@ fn recess_outline(t: Tess, drive: BoltDrive) -> Vec<Vec2> {
                 })
                 .collect()
         }
-        // a 1 mm slot across the face, ending 20 µm inside the rim's polygon at any turn
+        // a 1 mm slot across the face, ending 20 µm inside the rim polygon's inscribed circle
         BoltDrive::Slot => {
             let inradius = HEAD_RADIUS * (std::f32::consts::PI / t.n(HEAD_RADIUS) as f32).cos();
             let half = (inradius * inradius - 0.05 * 0.05).sqrt() - 0.002;
