@@ -23,6 +23,17 @@ pub struct Distortion {
     pub p2: f64,
 }
 
+/// The coefficients as a sensor TOML gives them: `{ k1 = …, k2 = …, p1 = …, p2 = …, k3 = … }`.
+impl std::fmt::Display for Distortion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let Distortion { k1, k2, p1, p2, k3 } = self;
+        write!(
+            f,
+            "{{ k1 = {k1}, k2 = {k2}, p1 = {p1}, p2 = {p2}, k3 = {k3} }}"
+        )
+    }
+}
+
 impl Distortion {
     /// Whether all coefficients are zero.
     #[inline]
@@ -140,7 +151,7 @@ impl Intrinsics {
         {
             return bad(
                 "distortion",
-                format!("{d:?}"),
+                d.to_string(),
                 "finite coefficients below 100 in magnitude",
             );
         }
@@ -156,7 +167,7 @@ impl Intrinsics {
             if err.is_nan() || err >= 1e-3 {
                 return bad(
                     "distortion",
-                    format!("{d:?}"),
+                    d.to_string(),
                     "coefficients whose distortion can be inverted over the image",
                 );
             }

@@ -1,4 +1,4 @@
-//! Simulated depth sensors on a BVH ray caster built on parry: structured-light cameras with
+//! Simulated depth sensors on a BVH ray caster: structured-light cameras with
 //! projector shadows, time-of-flight and Kinect-style sensors, and ideal depth, with composable
 //! noise models and labelled outputs. Scene-agnostic: it scans any labelled triangle meshes.
 //!
@@ -43,6 +43,7 @@ pub mod camera;
 pub mod cloud;
 mod epipolar;
 mod error;
+pub mod files;
 pub mod formats;
 pub mod materials;
 pub mod mesh;

@@ -72,10 +72,7 @@ pub fn read(path: &Path) -> Result<Vec<Target>, Error> {
             _ => e.to_string(),
         })
     };
-    if !std::fs::metadata(path).map_err(unreadable)?.is_file() {
-        return Err(bad("not a regular file".into()));
-    }
-    let bytes = std::fs::read(path).map_err(unreadable)?;
+    let bytes = crate::files::read(path, u64::MAX).map_err(unreadable)?;
     parse(&bytes, format).map_err(bad)
 }
 
@@ -238,7 +235,8 @@ fn check_stl_size(bytes: &[u8]) -> Result<(), String> {
 fn read_ply(bytes: &[u8]) -> Result<Vec<Target>, String> {
     let in_words = |e: ply_rs_bw::parser::ParseError| match e.kind() {
         std::io::ErrorKind::UnexpectedEof => "the file ends early".to_string(),
-        _ => e.to_string(),
+        // its first line: the rest quotes the line and the parser's error as Rust writes it
+        _ => e.to_string().lines().next().unwrap_or_default().to_string(),
     };
     let parser = Parser::<DefaultElement>::new();
     // every element takes at least a byte, so a header may not promise more elements than the

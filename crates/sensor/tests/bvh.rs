@@ -122,7 +122,7 @@ fn single_triangle_and_empty() {
 
 #[test]
 fn a_large_grid_gets_a_shallow_tree_and_exact_hits() {
-    // a 300 x 300 quad grid (180k triangles, above the size parry's PLOC builds) at z = 1.5:
+    // a 300 x 300 quad grid (180k triangles) at z = 1.5:
     // every ray down the z axis hits it at 1.5
     let n = 300;
     let tris = grid(n, |a, b| {
@@ -138,6 +138,38 @@ fn a_large_grid_gets_a_shallow_tree_and_exact_hits() {
         let (nodes, leaves) = bvh.cost(Vec3::new(x, y, 0.0), Vec3::Z, 10.0);
         assert!(nodes < 80 && leaves < 8, "{nodes} nodes, {leaves} leaves");
     }
+}
+
+#[test]
+fn coincident_and_degenerate_triangles_build_a_shallow_tree() {
+    // 60,000 copies of one triangle: every centroid equal, which no SAH plane splits
+    let one = [
+        Vec3::new(-1.0, -1.0, 2.0),
+        Vec3::new(1.0, -1.0, 2.0),
+        Vec3::new(0.0, 1.0, 2.0),
+    ];
+    let copies = vec![one; 60_000];
+    let bvh = Bvh::build(&copies);
+    assert_eq!(bvh.len(), 60_000);
+    assert!(bvh.depth() <= 12, "{} levels", bvh.depth());
+    let h = bvh.cast(Vec3::ZERO, Vec3::Z, 100.0).unwrap();
+    assert!((h.t - 2.0).abs() < 1e-6);
+    // a fan of zero-area slivers whose centroids crowd towards one end at every scale (as a
+    // polygon fan-triangulated over repeated indices), where a split peels one off at a time
+    let sliver = |k: usize| {
+        let x = 0.5f32.powi((k % 120) as i32) + k as f32 * 1e-9;
+        [
+            Vec3::new(x, 0.0, 1.0),
+            Vec3::new(2.0 * x, 0.0, 1.0),
+            Vec3::new(3.0 * x, 0.0, 1.0),
+        ]
+    };
+    let mut mesh: Vec<[Vec3; 3]> = (0..40_000).map(sliver).collect();
+    mesh.push(one);
+    let bvh = Bvh::build(&mesh);
+    assert!(bvh.depth() <= 40, "{} levels", bvh.depth());
+    let h = bvh.cast(Vec3::ZERO, Vec3::Z, 100.0).unwrap();
+    assert_eq!(h.triangle, 40_000);
 }
 
 /// A closed cube of side 2 about the origin, each face an n x n grid of quad pairs.

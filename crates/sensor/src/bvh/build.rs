@@ -1,14 +1,14 @@
-//! Building the 4-wide tree: parry's binned (small meshes) or PLOC (large ones) binary tree,
-//! flattened, then collapsed four children to a node with the leaves in traversal order.
+//! Building the 4-wide tree: a binary tree by binned surface-area heuristic (SAH) splits of
+//! the triangles' centroids, falling back to median splits where SAH cannot split or the tree
+//! grows deep (equal centroids, coincident or degenerate triangles), so that any input builds in
+//! O(n log n); then collapsed four children to a node with the leaves in traversal order.
 
 use glam::Vec3;
-use parry3d::bounding_volume::Aabb;
-use parry3d::partitioning::{Bvh as ParryBvh, BvhBuildStrategy, TraversalAction};
 
 use super::{Bvh, LEAF, Node4};
 
-/// A node of parry's binary tree as flattened: an internal node's children are at `child` and
-/// `child + 1`; a leaf holds one triangle, `prim` (an input triangle index).
+/// A node of the binary tree: an internal node's children are at `child` and `child + 1`; a
+/// leaf holds one triangle, `prim` (an input triangle index).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 struct Node {
@@ -20,9 +20,12 @@ struct Node {
 
 const INTERNAL: u32 = u32::MAX;
 
-/// Triangles at or above this count are built with PLOC (better trees, slower build); smaller
-/// meshes with binned SAH.
-const PLOC_FROM: usize = 50_000;
+/// SAH bins per split.
+const BINS: usize = 16;
+
+/// Depth below which splits are by SAH; deeper ranges are split at their median, which bounds
+/// the depth of any tree by this plus log2 of its size.
+const SAH_DEPTH: u32 = 48;
 
 impl Bvh {
     /// Builds the hierarchy over triangles given by vertex positions.
@@ -36,15 +39,7 @@ impl Bvh {
         if triangles.is_empty() {
             return bvh;
         }
-        let strategy = if triangles.len() >= PLOC_FROM {
-            BvhBuildStrategy::Ploc
-        } else {
-            BvhBuildStrategy::Binned
-        };
-        let aabbs = triangles
-            .iter()
-            .map(|t| Aabb::from_points(t.iter().copied()));
-        let binary = flatten(&ParryBvh::from_iter(strategy, aabbs.enumerate()));
+        let binary = binary_tree(triangles);
         bvh.nodes.reserve(triangles.len() / 2);
         bvh.tris.reserve(triangles.len());
         bvh.order.reserve(triangles.len());
@@ -59,7 +54,7 @@ impl Bvh {
             node.child[0] = root;
             bvh.nodes.push(node);
         }
-        bvh.stack = 4 * bvh.depth(0);
+        bvh.stack = 4 * bvh.levels(0);
         bvh
     }
 
@@ -72,7 +67,7 @@ impl Bvh {
             self.tris.push(triangles[n.prim as usize]);
             return LEAF | (self.tris.len() as u32 - 1);
         }
-        // open the largest internal child until there are four
+        // open the largest internal child (of equals, the first made) until there are four
         let mut kids = vec![n.child as usize, n.child as usize + 1];
         while kids.len() < 4 {
             let area = |k: usize| {
@@ -81,7 +76,11 @@ impl Bvh {
             };
             let Some(open) = (0..kids.len())
                 .filter(|&j| binary[kids[j]].prim == INTERNAL)
-                .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])))
+                .max_by(|&a, &b| {
+                    area(kids[a])
+                        .total_cmp(&area(kids[b]))
+                        .then(kids[b].cmp(&kids[a]))
+                })
             else {
                 break;
             };
@@ -104,61 +103,143 @@ impl Bvh {
     }
 
     /// Levels of the tree below and including node `i`.
-    fn depth(&self, i: usize) -> usize {
+    fn levels(&self, i: usize) -> usize {
         let inner = self.nodes[i].child.iter().filter(|&&c| c & LEAF == 0);
-        1 + inner.map(|&c| self.depth(c as usize)).max().unwrap_or(0)
+        1 + inner.map(|&c| self.levels(c as usize)).max().unwrap_or(0)
     }
 }
 
-/// Copies parry's binary tree into adjacent-children order. Its topology is read through parry's
-/// public depth-first traversal: it visits both children of a node as a pair, then descends left
-/// first, deferring a right subtree on its stack; mirroring that order tells whose children each
-/// pair is. Index 0 is the root.
-fn flatten(parry: &ParryBvh) -> Vec<Node> {
-    let root = parry.root_aabb();
-    let mut nodes = vec![Node {
-        min: root.mins,
-        child: 1,
-        max: root.maxs,
-        prim: INTERNAL,
-    }];
-    let mut owner: Option<u32> = Some(0);
-    let mut deferred: Vec<u32> = Vec::new();
-    let mut pair: Vec<(u32, bool)> = Vec::with_capacity(2);
-    let single_leaf = parry.leaf_count() == 1;
-    parry.traverse(|node| {
-        let index = nodes.len() as u32;
-        if pair.is_empty() {
-            let parent = owner.take().expect("every visited pair has a parent");
-            nodes[parent as usize].child = index;
-        }
-        let aabb = node.aabb();
-        let leaf = node.leaf_data();
-        nodes.push(Node {
-            min: aabb.mins,
-            child: 0,
-            max: aabb.maxs,
-            prim: leaf.unwrap_or(INTERNAL),
-        });
-        pair.push((index, leaf.is_none()));
-        if pair.len() == 2 || single_leaf {
-            match (pair[0], pair.get(1).copied().unwrap_or((0, false))) {
-                ((l, true), (r, true)) => {
-                    owner = Some(l);
-                    deferred.push(r);
-                }
-                ((l, true), _) => owner = Some(l),
-                (_, (r, true)) => owner = Some(r),
-                _ => owner = deferred.pop(),
+/// A triangle's box and centroid, and its input index, as the binary build sorts them.
+#[derive(Clone, Copy)]
+struct Prim {
+    min: Vec3,
+    max: Vec3,
+    centre: Vec3,
+    index: u32,
+}
+
+/// The binary tree over `triangles`, its root at 0 and each node's children side by side.
+fn binary_tree(triangles: &[[Vec3; 3]]) -> Vec<Node> {
+    let mut prims: Vec<Prim> = triangles
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let (min, max) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+            Prim {
+                min,
+                max,
+                centre: (min + max) * 0.5,
+                index: i as u32,
             }
-            pair.clear();
-        }
-        TraversalAction::Continue
-    });
-    if single_leaf {
-        // parry stores a lone leaf without a sibling: the root is that leaf
-        nodes.swap(0, 1);
-        nodes.truncate(1);
-    }
+        })
+        .collect();
+    let mut nodes = Vec::with_capacity(2 * prims.len());
+    nodes.push(leaf_or_box(&prims));
+    split(&mut nodes, 0, &mut prims, 0);
     nodes
+}
+
+/// A leaf for a lone triangle, else an internal node with the box of `prims`.
+fn leaf_or_box(prims: &[Prim]) -> Node {
+    let (min, max) = prims
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.min), hi.max(p.max))
+        });
+    Node {
+        min,
+        child: 0,
+        max,
+        prim: if prims.len() == 1 {
+            prims[0].index
+        } else {
+            INTERNAL
+        },
+    }
+}
+
+/// Splits node `at` (holding `prims`, two or more, or a leaf) and its descendants.
+fn split(nodes: &mut Vec<Node>, at: usize, prims: &mut [Prim], depth: u32) {
+    if prims.len() < 2 {
+        return;
+    }
+    let mid = partition(prims, depth);
+    let (left, right) = prims.split_at_mut(mid);
+    let child = nodes.len();
+    nodes[at].child = child as u32;
+    nodes.push(leaf_or_box(left));
+    nodes.push(leaf_or_box(right));
+    split(nodes, child, left, depth + 1);
+    split(nodes, child + 1, right, depth + 1);
+}
+
+/// Reorders `prims` into two non-empty runs and returns where the second starts: the binned
+/// SAH split along the centroids' longest extent, or the median along it where SAH cannot
+/// split (all centroids in one bin, non-finite coordinates) or `depth` reached [`SAH_DEPTH`].
+fn partition(prims: &mut [Prim], depth: u32) -> usize {
+    let (lo, hi) = prims
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.centre), hi.max(p.centre))
+        });
+    let extent = hi - lo;
+    let axis = (0..3)
+        .max_by(|&a, &b| extent[a].total_cmp(&extent[b]))
+        .expect("three axes");
+    let median = |prims: &mut [Prim]| {
+        let mid = prims.len() / 2;
+        prims.select_nth_unstable_by(mid, |a, b| a.centre[axis].total_cmp(&b.centre[axis]));
+        mid
+    };
+    let scale = BINS as f32 / extent[axis];
+    if depth >= SAH_DEPTH || !(scale.is_finite() && scale > 0.0) {
+        return median(prims);
+    }
+    let bin = |p: &Prim| (((p.centre[axis] - lo[axis]) * scale) as usize).min(BINS - 1);
+    let mut boxes = [(Vec3::INFINITY, Vec3::NEG_INFINITY, 0u32); BINS];
+    for p in prims.iter() {
+        let b = &mut boxes[bin(p)];
+        *b = (b.0.min(p.min), b.1.max(p.max), b.2 + 1);
+    }
+    let area = |(min, max): (Vec3, Vec3)| {
+        let e = (max - min).max(Vec3::ZERO);
+        e.x * e.y + e.y * e.z + e.z * e.x
+    };
+    // the cost of the boxes right of each plane, then the best plane sweeping from the left
+    let mut right = [0.0f32; BINS];
+    let mut acc = (Vec3::INFINITY, Vec3::NEG_INFINITY, 0u32);
+    for b in (1..BINS).rev() {
+        acc = (
+            acc.0.min(boxes[b].0),
+            acc.1.max(boxes[b].1),
+            acc.2 + boxes[b].2,
+        );
+        right[b] = area((acc.0, acc.1)) * acc.2 as f32;
+    }
+    let mut left = (Vec3::INFINITY, Vec3::NEG_INFINITY, 0u32);
+    let mut best: Option<(f32, usize)> = None;
+    for b in 1..BINS {
+        let k = &boxes[b - 1];
+        left = (left.0.min(k.0), left.1.max(k.1), left.2 + k.2);
+        let on_right = prims.len() as u32 - left.2;
+        if left.2 == 0 || on_right == 0 {
+            continue;
+        }
+        let cost = area((left.0, left.1)) * left.2 as f32 + right[b];
+        if best.is_none_or(|(c, _)| cost < c) {
+            best = Some((cost, b));
+        }
+    }
+    let Some((_, plane)) = best else {
+        return median(prims);
+    };
+    // in place: those left of the plane first
+    let mut mid = 0;
+    for i in 0..prims.len() {
+        if bin(&prims[i]) < plane {
+            prims.swap(i, mid);
+            mid += 1;
+        }
+    }
+    mid
 }

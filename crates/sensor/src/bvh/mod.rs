@@ -1,4 +1,4 @@
-//! A ray-casting BVH: built by parry (binned or PLOC) and collapsed into a 4-wide tree whose
+//! A ray-casting BVH: built by binned SAH splits (median splits where SAH cannot split) and collapsed into a 4-wide tree whose
 //! leaf triangles are stored in traversal order (`build`), and walked by packets of rays
 //! (`traverse`): each node's four boxes are tested once per packet against the cone the rays
 //! span from the box of their origins, nearest child first, and each triangle against four
@@ -94,6 +94,11 @@ impl Bvh {
     /// True when there are no triangles.
     pub fn is_empty(&self) -> bool {
         self.tris.is_empty()
+    }
+
+    /// Levels of the 4-wide tree (0 for no triangles).
+    pub fn depth(&self) -> usize {
+        self.stack / 4
     }
 
     /// The triangles by slot (leaf order).

@@ -7,7 +7,7 @@ use glam::{BVec4A, Vec3, Vec4};
 use super::triangle::{Rays4, WIDEN};
 use super::{Bvh, EMPTY, LEAF, Node4};
 
-/// Traversal stack entries kept on the call stack: parry's trees of a few million triangles are
+/// Traversal stack entries kept on the call stack: trees of a few million triangles are
 /// well under 20 four-wide levels deep, and a walk holds at most four entries per level.
 const STACK: usize = 128;
 
