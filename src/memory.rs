@@ -2,8 +2,9 @@
 
 use crate::error::{CliError, CliResult};
 
-/// Bytes this process may still use: the smaller of the system's available memory and what its
-/// control group allows (a container's limit); None where neither is known.
+/// Bytes this process may still use: the smallest of the system's available memory, what its
+/// control group allows (a container's limit) and what its address-space limit (`ulimit -v`,
+/// `prlimit --as`) leaves; None where none is known.
 fn available() -> Option<u64> {
     let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
     let system = meminfo.as_deref().and_then(|m| {
@@ -20,10 +21,29 @@ fn available() -> Option<u64> {
     };
     let group =
         read("memory.max").map(|max| max.saturating_sub(read("memory.current").unwrap_or(0)));
-    match (system, group) {
-        (Some(a), Some(b)) => Some(a.min(b)),
-        (a, b) => a.or(b),
-    }
+    [system, group, address_space()].into_iter().flatten().min()
+}
+
+/// What the address-space limit leaves this process: the soft limit less the address space it
+/// maps now; None without a limit.
+fn address_space() -> Option<u64> {
+    let limits = std::fs::read_to_string("/proc/self/limits").ok()?;
+    let soft: u64 = limits
+        .lines()
+        .find_map(|l| l.strip_prefix("Max address space"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: u64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmSize:"))?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()?;
+    Some(soft.saturating_sub(kb * 1024))
 }
 
 /// Bytes in words: `1.5 GB`, `300 MB`.

@@ -32,7 +32,7 @@ impl MotorsConfig {
     fn read(path: Option<&Path>) -> CliResult<MotorsConfig> {
         let (text, name) = match path {
             Some(p) => (
-                std::fs::read_to_string(p)
+                sensor::files::read_text(p, sensor::files::CONFIG_LIMIT)
                     .map_err(|e| CliError::Usage(format!("{}: {e}", p.display())))?,
                 p.display().to_string(),
             ),
@@ -41,7 +41,12 @@ impl MotorsConfig {
                 "built-in configs/motors.toml".into(),
             ),
         };
-        toml::from_str(&text).map_err(|e| CliError::Usage(format!("{name}: {e}")))
+        toml::from_str(&text).map_err(|e| {
+            CliError::Usage(format!(
+                "{name}: {}",
+                scene::config::toml_in_words(&text, &e)
+            ))
+        })
     }
 }
 
@@ -87,13 +92,14 @@ struct Plan {
     per_part: bool,
     exploded: f32,
     out: PathBuf,
+    /// What an earlier run wrote in `out`, removed by [`Plan::make_out`] (`--replace`).
+    earlier: Vec<PathBuf>,
 }
 
 impl MeshArgs {
     /// Resolves config and arguments into a plan; `base` gives the space before `[params]` and
-    /// `--set` apply. Creates the output folder, and with `--replace` removes what an earlier
-    /// run of `motor` (`many` false) or `motors` wrote there (the only writes before
-    /// generation).
+    /// `--set` apply. Writes nothing: refuses an output folder holding what an earlier run of
+    /// `motor` (`many` false) or `motors` wrote, unless `--replace`.
     fn plan(&self, base: ParamSpace, many: bool) -> CliResult<Plan> {
         let config = MotorsConfig::read(self.config.as_deref())?;
         let mut space = base;
@@ -141,20 +147,6 @@ impl MeshArgs {
                 if many { "motors" } else { "a motor" }
             )));
         }
-        for path in earlier {
-            let removed = if path.is_dir() {
-                std::fs::remove_dir_all(&path)
-            } else {
-                std::fs::remove_file(&path)
-            };
-            removed.map_err(|e| CliError::Runtime(format!("{}: {e}", path.display())))?;
-        }
-        std::fs::create_dir_all(&self.out).map_err(|e| {
-            CliError::Usage(format!(
-                "cannot create output folder {}: {e}",
-                self.out.display()
-            ))
-        })?;
         Ok(Plan {
             space,
             seed: self.seed.or(config.seed).unwrap_or(0),
@@ -163,11 +155,31 @@ impl MeshArgs {
             per_part: !self.whole_only && config.per_part.unwrap_or(true),
             exploded,
             out: self.out.clone(),
+            earlier,
         })
     }
 }
 
 impl Plan {
+    /// Once the command's checks pass: removes what an earlier run wrote (`--replace`) and
+    /// creates the output folder, the first writes.
+    fn make_out(&self) -> CliResult<()> {
+        for path in &self.earlier {
+            let removed = if path.is_dir() {
+                std::fs::remove_dir_all(path)
+            } else {
+                std::fs::remove_file(path)
+            };
+            removed.map_err(|e| CliError::Runtime(format!("{}: {e}", path.display())))?;
+        }
+        std::fs::create_dir_all(&self.out).map_err(|e| {
+            CliError::Usage(format!(
+                "cannot create output folder {}: {e}",
+                self.out.display()
+            ))
+        })
+    }
+
     fn motor(&self, seed: u64) -> CliResult<Motor> {
         let motor = build(&self.space.sample(seed)?, self.detail);
         Ok(if self.exploded > 0.0 {
@@ -204,6 +216,7 @@ impl MotorCmd {
         };
         let plan = self.mesh.plan(base, false)?;
         let motor = plan.motor(plan.seed)?;
+        plan.make_out()?;
         plan.write(&motor, &plan.out)?;
         let triangles: usize = motor.parts.iter().map(|p| p.mesh.triangle_count()).sum();
         note!(
@@ -250,6 +263,7 @@ impl MotorsCmd {
             .num_threads(jobs)
             .build()
             .map_err(|e| CliError::Usage(format!("--jobs {:?}: {e}", self.jobs)))?;
+        plan.make_out()?;
         let progress = Progress::new(self.count, "motors", self.quiet);
         let rows: Vec<String> = pool.install(|| {
             (0..self.count)

@@ -82,6 +82,9 @@ impl PreviewCmd {
     }
 }
 
+/// The most bytes a manifest may hold (a row is about 300 bytes).
+const MANIFEST_LIMIT: u64 = 4 << 30;
+
 /// The JSON files of the first `count` samples listed in a dataset's manifests.
 fn first_samples(dir: &Path, count: usize) -> CliResult<Vec<PathBuf>> {
     let bad = |why: String| CliError::Usage(format!("dataset {}: {why}", dir.display()));
@@ -90,7 +93,8 @@ fn first_samples(dir: &Path, count: usize) -> CliResult<Vec<PathBuf>> {
         let path = entry.map_err(|e| bad(e.to_string()))?.path();
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         if name.starts_with("manifest") && name.ends_with(".jsonl") {
-            let text = std::fs::read_to_string(&path).map_err(|e| bad(e.to_string()))?;
+            let text =
+                sensor::files::read_text(&path, MANIFEST_LIMIT).map_err(|e| bad(e.to_string()))?;
             rows.extend(
                 text.lines()
                     .filter_map(|l| serde_json::from_str::<Row>(l).ok()),
@@ -113,7 +117,8 @@ fn first_samples(dir: &Path, count: usize) -> CliResult<Vec<PathBuf>> {
 /// The preview of one sample's first view.
 fn preview(json: &Path, width: u32) -> CliResult<Image> {
     let bad = |why: String| CliError::Usage(format!("sample {}: {why}", json.display()));
-    let text = std::fs::read_to_string(json).map_err(|e| bad(e.to_string()))?;
+    let text = sensor::files::read_text(json, sensor::files::CONFIG_LIMIT)
+        .map_err(|e| bad(e.to_string()))?;
     let doc: SampleJson = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
     let view = doc.views.first().ok_or_else(|| bad("no views".into()))?;
     let root = json

@@ -874,7 +874,7 @@ fn messages_say_what_is_allowed_in_words_and_stay_short() {
                 "--out",
                 o_str,
             ],
-            "seed",
+            "line 1, column 9",
         ),
         (
             vec!["generate", "--config", "synmtor", "--out", o_str],

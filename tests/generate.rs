@@ -228,6 +228,11 @@ fn killed_run_resumes_to_the_same_bytes() {
         b"half",
     )
     .unwrap();
+    std::fs::write(
+        part.join(".motorfactory/writers/0000000000004242.lock"),
+        b"",
+    )
+    .unwrap();
 
     let refused = generate(&part, &args(&a));
     assert_eq!(

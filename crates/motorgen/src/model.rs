@@ -91,6 +91,29 @@ impl PartKind {
         }
     }
 
+    /// Whether `stem` names a part's files: a kind's [`PartKind::name`], numbered `_1`, `_2`, …
+    /// for bolts and magnets.
+    pub fn is_file_stem(stem: &str) -> bool {
+        PartKind::ALL.iter().any(|k| {
+            let numbered = matches!(
+                k,
+                PartKind::SideBolt | PartKind::CoverBolt | PartKind::Magnet
+            );
+            match stem.strip_prefix(k.name()) {
+                Some("") => !numbered,
+                Some(n) => {
+                    numbered
+                        && n.strip_prefix('_').is_some_and(|d| {
+                            !d.is_empty()
+                                && !d.starts_with('0')
+                                && d.bytes().all(|b| b.is_ascii_digit())
+                        })
+                }
+                None => false,
+            }
+        })
+    }
+
     /// File-name stem (snake case).
     pub fn name(self) -> &'static str {
         match self {

@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use sensor::formats::CloudFormat;
 use serde::{Deserialize, Serialize};
 
-use crate::claim::Claim;
+use crate::claim::{Claim, plain_dir};
 use crate::config::{Combinations, Config, set_key};
 use crate::error::{Error, Result};
 use crate::record::SampleJson;
@@ -181,11 +181,14 @@ impl Dataset {
              reads it back).\n{}",
             toml::to_string(&base).map_err(|e| Error::Config(e.to_string()))?
         );
-        // the first combination stands for the dataset (its labels, sensor and memory); the
-        // first samples' combinations are checked before anything is written, the others when
-        // their samples are made
+        // the first combination stands for the dataset (its labels, sensor and memory); every
+        // value of every sweep, and the first samples' combinations, are checked before anything
+        // is written
         let first = combination(&table, &combinations, 0)?;
-        for c in 1..combinations.total().min(16) {
+        for c in combinations
+            .each_value()
+            .chain(1..combinations.total().min(16))
+        {
             combination(&table, &combinations, c)?;
         }
         Ok(Dataset {
@@ -259,21 +262,35 @@ impl Dataset {
     /// and `resume` is false, or another run holds it; [`Error::Io`] when the folder or its
     /// first files cannot be written.
     pub fn prepare(&self, resume: bool) -> Result<Prepared> {
-        let existed = self.out.exists();
-        let prepared = self.prepare_existing(resume);
-        if prepared.is_err() && !existed {
-            // refused: a folder this call made goes again
-            let _ = std::fs::remove_dir_all(&self.out);
+        let made = make_out(&self.out)?;
+        let claim = Claim::take(&self.out, self.shard).map_err(|e| unwritable(&self.out, e))?;
+        match self.prepare_claimed(&claim, resume) {
+            Ok((done, first)) => Ok(Prepared {
+                claim,
+                done,
+                first: Mutex::new(first),
+            }),
+            Err(e) => {
+                if made {
+                    // refused: what this run made goes again, if no other run is in the folder
+                    claim.withdraw();
+                }
+                Err(unwritable(&self.out, e))
+            }
         }
-        prepared
     }
 
-    fn prepare_existing(&self, resume: bool) -> Result<Prepared> {
+    /// [`Dataset::prepare`] once the folder is claimed: the rows of this shard already done
+    /// and its first sample to make, made.
+    #[allow(clippy::type_complexity)]
+    fn prepare_claimed(
+        &self,
+        claim: &Claim,
+        resume: bool,
+    ) -> Result<(Vec<Row>, Option<(Arc<Recipe>, Sample)>)> {
         let out = &self.out;
         let unusable =
             |what: String| Error::Output(format!("output folder {}: {what}", out.display()));
-        std::fs::create_dir_all(out).map_err(|e| unusable(e.to_string()))?;
-        let claim = Claim::take(out, self.shard)?;
         let config = out.join("config.toml");
         let same_config = || match std::fs::read_to_string(&config) {
             Ok(existing) if !same_dataset(&existing, &self.resolved) => Err(unusable(
@@ -317,16 +334,12 @@ impl Dataset {
         let mut dirs = vec![out.clone()];
         for split in ["train", "validation"] {
             let dir = out.join(split);
-            std::fs::create_dir_all(&dir).map_err(|e| unusable(e.to_string()))?;
+            plain_dir(&dir)?;
             dirs.push(dir);
         }
         claim.remove_stale_temporaries(&dirs)?;
         drop(setup);
-        Ok(Prepared {
-            claim,
-            done: rows,
-            first: Mutex::new(first),
-        })
+        Ok((rows, first))
     }
 
     /// The first sample of this shard not in `done`, made to see that the configuration
@@ -606,6 +619,56 @@ fn same_dataset(a: &str, b: &str) -> bool {
 
 fn to_toml_int(n: u64) -> Result<i64> {
     i64::try_from(n).map_err(|_| Error::invalid("number", n, "at most 2^63 - 1"))
+}
+
+/// Makes the output folder `out` (and the folders above it): whether this call made it. An
+/// existing `out` must be a folder (a symbolic link to one is followed).
+fn make_out(out: &Path) -> Result<bool> {
+    let cannot = |e: std::io::Error| {
+        Error::Output(format!(
+            "cannot make output folder {}: {e}; choose another --out",
+            out.display()
+        ))
+    };
+    let parent = out.parent().filter(|p| !p.as_os_str().is_empty());
+    if let Some(parent) = parent {
+        std::fs::create_dir_all(parent).map_err(cannot)?;
+    }
+    match std::fs::create_dir(out) {
+        Ok(()) => Ok(true),
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => match std::fs::metadata(out) {
+            Ok(m) if m.is_dir() => Ok(false),
+            Ok(_) => Err(Error::Output(format!(
+                "output folder {} is a file; choose another --out",
+                out.display()
+            ))),
+            Err(_) => Err(Error::Output(format!(
+                "output folder {} is a symbolic link to nothing; remove it or choose another --out",
+                out.display()
+            ))),
+        },
+        Err(e) => Err(cannot(e)),
+    }
+}
+
+/// An output folder this process may not write into is the user's to fix, not a failure while
+/// working: an [`Error::Output`].
+fn unwritable(out: &Path, e: Error) -> Error {
+    match e {
+        Error::Io { path, source }
+            if matches!(
+                source.kind(),
+                std::io::ErrorKind::PermissionDenied | std::io::ErrorKind::ReadOnlyFilesystem
+            ) =>
+        {
+            Error::Output(format!(
+                "output folder {}: cannot write {} ({source}); choose another --out",
+                out.display(),
+                path.display()
+            ))
+        }
+        e => e,
+    }
 }
 
 /// Writes `body` to `path` through a temporary file and a rename.

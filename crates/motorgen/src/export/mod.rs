@@ -21,7 +21,7 @@ pub use obj::{write_mtl, write_obj};
 pub use ply::write_ply;
 pub use stl::write_stl;
 
-use crate::model::{Motor, Part};
+use crate::model::{Motor, Part, PartKind};
 use crate::{Error, Result};
 
 /// A mesh file format.
@@ -132,23 +132,34 @@ pub fn write_motor(
     Ok(written)
 }
 
-/// What an earlier `motor` (`many` false: the files its `attributes.json` lists, in every mesh
-/// format, `materials.mtl` and `attributes.json`) or `motors` (`attributes.csv` and the
-/// `motor_NNNNNN` folders) wrote in `out`.
+/// What an earlier `motor` (`many` false: the mesh files this program names, `motor.{ext}` and
+/// a part's `{name}.{ext}` in every mesh format, `materials.mtl` and `attributes.json`) or
+/// `motors` (`attributes.csv` and the `motor_NNNNNN` folders) wrote in `out`: plain files and
+/// folders only, found by the names this program writes (never names read from a file).
 ///
 /// # Errors
 ///
 /// [`Error::Parse`] when `out` holds an `attributes.json` that is not a motor's.
 pub fn earlier_output(out: &Path, many: bool) -> Result<Vec<PathBuf>> {
+    let entries = || {
+        std::fs::read_dir(out)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter_map(|e| {
+                let kind = e.file_type().ok()?;
+                let name = e.file_name().into_string().ok()?;
+                Some((e.path(), name, kind))
+            })
+    };
     let mut found = Vec::new();
     if many {
-        for entry in std::fs::read_dir(out).into_iter().flatten().flatten() {
-            let name = entry.file_name().to_string_lossy().into_owned();
+        for (path, name, kind) in entries() {
             let numbered = name
                 .strip_prefix("motor_")
                 .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
-            if name == "attributes.csv" || (numbered && entry.path().is_dir()) {
-                found.push(entry.path());
+            if (name == "attributes.csv" && kind.is_file()) || (numbered && kind.is_dir()) {
+                found.push(path);
             }
         }
         found.sort();
@@ -158,30 +169,26 @@ pub fn earlier_output(out: &Path, many: bool) -> Result<Vec<PathBuf>> {
     let Ok(text) = std::fs::read_to_string(&json) else {
         return Ok(found);
     };
-    let doc: serde_json::Value = serde_json::from_str(&text).map_err(|_| {
-        Error::Parse(format!(
+    if serde_json::from_str::<serde_json::Value>(&text).is_err() {
+        return Err(Error::Parse(format!(
             "{} is not a motor's: choose another folder",
             json.display()
-        ))
-    })?;
-    let parts = doc["attributes"]["parts"].as_array().into_iter().flatten();
-    let names = parts
-        .filter_map(|p| p["name"].as_str())
-        .chain(["motor"])
-        .map(String::from);
-    for name in names {
-        for format in Format::ALL {
-            let file = out.join(format!("{name}.{}", format.extension()));
-            if file.is_file() {
-                found.push(file);
+        )));
+    }
+    for (path, name, kind) in entries() {
+        let ours = match name.rsplit_once('.') {
+            _ if name == "materials.mtl" || name == "attributes.json" => true,
+            Some((stem, ext)) => {
+                Format::ALL.iter().any(|f| f.extension() == ext)
+                    && (stem == "motor" || PartKind::is_file_stem(stem))
             }
+            None => false,
+        };
+        if ours && kind.is_file() {
+            found.push(path);
         }
     }
-    found.extend(
-        [out.join("materials.mtl"), json]
-            .into_iter()
-            .filter(|f| f.is_file()),
-    );
+    found.sort();
     Ok(found)
 }
 

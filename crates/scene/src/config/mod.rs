@@ -17,7 +17,7 @@ pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
 pub use table::{
     BUILTIN, builtin_table, default_table, named_table, overlay, parse_value, set_key,
 };
-pub use words::in_words;
+pub use words::{in_words, toml_in_words};
 
 use crate::error::{Error, Result};
 
@@ -319,9 +319,10 @@ impl SensorConfig {
 pub fn read_sensor(name: &str) -> Result<SensorSpec> {
     let shown = motorgen::shown(name);
     if name.ends_with(".toml") {
-        let text = std::fs::read_to_string(name).map_err(Error::io(name.as_ref()))?;
+        let text = sensor::files::read_text(name.as_ref(), sensor::files::CONFIG_LIMIT)
+            .map_err(Error::io(name.as_ref()))?;
         toml::from_str(&text)
-            .map_err(|e| Error::Config(format!("{shown}: {}", in_words(&e.to_string()))))
+            .map_err(|e| Error::Config(format!("{shown}: {}", toml_in_words(&text, &e))))
     } else {
         SensorSpec::preset(name).map_err(|_| {
             Error::Config(format!(

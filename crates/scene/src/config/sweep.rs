@@ -129,6 +129,17 @@ impl Combinations {
         self.total
     }
 
+    /// The combinations that differ from the first in one sweep's value: each value of each
+    /// sweep once (as many as the sweeps' values together).
+    pub fn each_value(&self) -> impl Iterator<Item = u64> + '_ {
+        let mut stride = self.total;
+        self.sweeps.iter().flat_map(move |(_, n)| {
+            stride /= n;
+            let step = stride;
+            (1..*n).map(move |k| k * step)
+        })
+    }
+
     /// The keys and values of combination `c` (taken modulo the total).
     pub fn get(&self, c: u64) -> Vec<(String, toml::Value)> {
         let mut rest = c % self.total;

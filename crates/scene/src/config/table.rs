@@ -101,20 +101,21 @@ pub fn named_table(name: &str) -> Result<toml::Table> {
         return Ok(table);
     }
     let shown = motorgen::shown(name);
-    let text = std::fs::read_to_string(name).map_err(|e| {
-        let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
-        Error::Config(match e.kind() {
-            std::io::ErrorKind::NotFound => format!(
-                "{shown}: no such file, and no built-in configuration of that name (built-in: \
+    let text =
+        sensor::files::read_text(name.as_ref(), sensor::files::CONFIG_LIMIT).map_err(|e| {
+            let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
+            Error::Config(match e.kind() {
+                std::io::ErrorKind::NotFound => format!(
+                    "{shown}: no such file, and no built-in configuration of that name (built-in: \
                  {}){}",
-                names.join(", "),
-                motorgen::did_you_mean(name, names.iter().copied())
-            ),
-            _ => format!("{shown}: {e}"),
-        })
-    })?;
+                    names.join(", "),
+                    motorgen::did_you_mean(name, names.iter().copied())
+                ),
+                _ => format!("{shown}: {e}"),
+            })
+        })?;
     let top = toml::from_str(&text)
-        .map_err(|e| Error::Config(format!("{shown}: {}", super::in_words(&e.to_string()))))?;
+        .map_err(|e| Error::Config(format!("{shown}: {}", super::toml_in_words(&text, &e))))?;
     let mut table = default_table();
     overlay(&mut table, top);
     Ok(table)

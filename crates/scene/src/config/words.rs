@@ -19,14 +19,33 @@ const TYPES: &[(&str, &str)] = &[
     ("a map", "a table"),
 ];
 
+/// A TOML file's reading error in words: where (line and column) and what, without the
+/// source lines it quotes, the message put [`in_words`].
+pub fn toml_in_words(text: &str, e: &toml::de::Error) -> String {
+    let what = in_words(e.message().lines().next().unwrap_or_default().trim());
+    match e.span() {
+        Some(span) => {
+            let before = &text.as_bytes()[..span.start.min(text.len())];
+            let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+            let column = before.iter().rev().take_while(|&&b| b != b'\n').count() + 1;
+            format!("line {line}, column {column}: {what}")
+        }
+        None => what,
+    }
+}
+
 /// `message` (a serde or TOML reading error) in words: type names replaced by what they
 /// allow, quoted values shortened, and for an unknown key or name the closest one suggested.
 pub fn in_words(message: &str) -> String {
-    let mut out = shorten_quoted(message);
+    let mut out = shorten_quoted(message.trim());
     if let Some((_, expected)) = out.rsplit_once(", expected ") {
         let expected = expected.to_string();
         let words = if expected.starts_with("struct ") {
             "a table".to_string()
+        } else if expected.starts_with("internally tagged enum ") {
+            // the sensor's model, the one enum read so
+            "a table with a `kind` key (structured-light, time-of-flight, kinect or ideal)"
+                .to_string()
         } else if let Some(&(_, words)) = TYPES.iter().find(|(t, _)| *t == expected) {
             words.to_string()
         } else {
