@@ -1,5 +1,8 @@
-//! Augmentation levels and the validation split of the original datasets, assigned by sample
-//! index so that every prefix of each motor variant's samples holds the configured shares.
+//! Augmentation levels and the validation split of the original datasets, and the motor
+//! variants, assigned by sample index: in every prefix of the samples each split and each level
+//! is within one sample of its share, validation comes spread (at most two in a row at shares
+//! up to a half) and in every shard, and over each full period every variant gets its exact
+//! share of every level and split.
 
 use serde::{Deserialize, Serialize};
 
@@ -60,16 +63,13 @@ impl Split {
     }
 }
 
-/// The (level, split) cells in a fixed order, each with its share of the samples.
-fn cells(a: &AugmentConfig) -> [((Level, Split), f64); 6] {
+/// The (level, split) cells in a fixed order (cell `2 l + s`), each with its share.
+fn cells(a: &AugmentConfig) -> [f64; 6] {
     let v = f64::from(a.validation);
     Level::ALL
         .map(|l| {
             let share = f64::from(l.config(a).share);
-            [
-                ((l, Split::Train), share * (1.0 - v)),
-                ((l, Split::Validation), share * v),
-            ]
+            [share * (1.0 - v), share * v]
         })
         .concat()
         .try_into()
@@ -102,51 +102,124 @@ fn weights(shares: [f64; 6]) -> ([u64; 6], u64) {
     (w, d)
 }
 
-/// The level and split of the `k`-th sample of its variant (`slot` numbers the variant, to vary
-/// the order among variants). The cells (level × split) follow Tijdeman's solution of the
-/// chairman assignment problem, so that in every prefix of a variant's samples each cell's count
-/// is within one sample of its share (at most 1 − 1/(2m − 2) away, m cells): for every n,
-/// each variant × level × split cell of the first n samples holds its target ±1.
-pub fn assign(k: u64, slot: u64, a: &AugmentConfig) -> (Level, Split) {
-    let cells = cells(a);
-    let (w, d) = weights(cells.map(|(_, s)| s));
-    let live: Vec<usize> = (0..6).filter(|&c| w[c] > 0).collect();
-    let m = live.len() as u64;
-    if m == 1 {
-        return cells[live[0]].0;
+/// Where a sample falls: its variant (a slot of `motor.variants`, 0 without them), level and
+/// split.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Place {
+    /// The variant's slot.
+    pub slot: u32,
+    /// The augmentation level.
+    pub level: Level,
+    /// The split.
+    pub split: Split,
+}
+
+/// The place of sample `index` among `variants` slots (1 without variants).
+///
+/// The samples come in blocks of `variants × d` (`d` the period of the level × split weights),
+/// each laid out step by step: the split keeps both splits' counts within one sample of their
+/// shares (where both may come, validation's place is drawn uniformly, seeded by the block,
+/// over the steps left before it must come, so that it is spread and falls into every shard);
+/// the level keeps its count within the split within one sample of its share there, preferring
+/// a level that keeps every level's count overall within one sample of its share, then the
+/// level furthest behind; the
+/// variant is the one with the fewest samples of that level and split (each variant gets its
+/// exact share of every cell per block), the one furthest behind overall among them. Each block
+/// ends with every count exact, so the guarantees hold over every prefix.
+pub fn place(index: u64, variants: u32, a: &AugmentConfig) -> Place {
+    let (w, d) = weights(cells(a));
+    let n = u64::from(variants.max(1));
+    let period = n * d;
+    let key = (w, n, index / period);
+    thread_local! {
+        static BLOCK: std::cell::RefCell<Option<(BlockKey, Vec<Place>)>> =
+            const { std::cell::RefCell::new(None) };
     }
-    // in units of 1/(d·(2m − 2)): a cell may be chosen at step t when its deficit
-    // t·w/d − s reaches 1/(2m − 2), and the one whose deficit would reach 1 − 1/(2m − 2)
-    // first, (s + 1 − 1/(2m − 2))/w smallest, is
-    let q = 2 * m - 2;
-    let mut s = [0u64; 6];
-    let mut chosen = live[0];
-    for t in 1..=(k % d) + 1 {
-        let mut best: Option<(usize, u64)> = None;
-        for r in 0..live.len() {
-            let c = live[(r + slot as usize) % live.len()];
-            let deficit = (t * w[c]) as i128 - (d * s[c]) as i128;
-            if deficit * q as i128 >= d as i128 {
-                let key = (s[c] + 1) * q - 1;
-                let better = best.is_none_or(|(b, bk)| {
-                    u128::from(key) * u128::from(w[b]) < u128::from(bk) * u128::from(w[c])
-                });
-                if better {
-                    best = Some((c, key));
-                }
-            }
+    BLOCK.with_borrow_mut(|cached| {
+        if cached.as_ref().is_none_or(|(k, _)| *k != key) {
+            *cached = Some((key, block(&w, d, n, index / period)));
         }
-        // (Tijdeman's theorem: some cell is always eligible; the largest deficit otherwise)
-        chosen = best.map_or_else(
-            || {
-                *live
-                    .iter()
-                    .max_by_key(|&&c| (t * w[c]) as i128 - (d * s[c]) as i128)
-                    .expect("a live cell")
+        let (_, places) = cached.as_ref().expect("a block");
+        places[(index % period) as usize]
+    })
+}
+
+/// What a block of places depends on: the cells' weights, the variants and the block's number.
+type BlockKey = ([u64; 6], u64, u64);
+
+/// Block `b` of [`place`]: `n × d` places.
+fn block(w: &[u64; 6], d: u64, n: u64, b: u64) -> Vec<Place> {
+    let split_w = [0, 1].map(|s| w[s] + w[2 + s] + w[4 + s]);
+    let level_w = [0, 1, 2].map(|l| w[2 * l] + w[2 * l + 1]);
+    let (mut in_split, mut in_cell, mut in_level) = ([0u64; 2], [0u64; 6], [0u64; 3]);
+    let mut per_variant = vec![0u64; n as usize];
+    let mut variant_cell = vec![[0u64; 6]; n as usize];
+    let mut places = Vec::with_capacity((n * d) as usize);
+    for t in 1..=n * d {
+        let coin = |tag: u64, k: u64| splitmix(splitmix(splitmix(b) ^ t) ^ (tag << 32 | k));
+        // the split: both counts within one sample of their shares after this step
+        let fits = |s: usize| {
+            let o = 1 - s;
+            split_w[s] > 0
+                && d * (in_split[s] + 1) < t * split_w[s] + d
+                && d * in_split[o] + d > t * split_w[o]
+        };
+        // where both may come, validation with a chance of one in the steps left before it
+        // must: its place uniform over them
+        let s = match (fits(0), fits(1)) {
+            (true, true) => {
+                let due = (d * (in_split[1] + 1)).div_ceil(split_w[1]);
+                usize::from(coin(0, 0) % (due + 1 - t) == 0)
+            }
+            (false, true) => 1,
+            _ => 0,
+        };
+        let r = in_split[s] + 1;
+        in_split[s] = r;
+        // the level: its count in the split within one sample of its share there
+        let ws = split_w[s];
+        let level_fits = |l: usize| {
+            w[2 * l + s] > 0
+                && ws * (in_cell[2 * l + s] + 1) < r * w[2 * l + s] + ws
+                && (0..3).all(|m| m == l || ws * in_cell[2 * m + s] + ws > r * w[2 * m + s])
+        };
+        let overall_fits = |l: usize| {
+            d * (in_level[l] + 1) < t * level_w[l] + d
+                && (0..3).all(|m| m == l || d * in_level[m] + d > t * level_w[m])
+        };
+        let behind = |l: usize| (t * level_w[l]) as i128 - (d * in_level[l]) as i128;
+        let l = (0..3)
+            .filter(|&l| w[2 * l + s] > 0)
+            .max_by_key(|&l| (level_fits(l), overall_fits(l), behind(l), coin(1, l as u64)))
+            .expect("a level of the split");
+        let c = 2 * l + s;
+        in_cell[c] += 1;
+        in_level[l] += 1;
+        // the variant: fewest of this cell, then furthest behind overall
+        let fewest = variant_cell.iter().map(|v| v[c]).min().expect("a variant");
+        let v = (0..n as usize)
+            .filter(|&v| variant_cell[v][c] == fewest)
+            .max_by_key(|&v| (t as i128 - (n * per_variant[v]) as i128, coin(2, v as u64)))
+            .expect("a variant");
+        variant_cell[v][c] += 1;
+        per_variant[v] += 1;
+        places.push(Place {
+            slot: v as u32,
+            level: Level::ALL[l],
+            split: if s == 1 {
+                Split::Validation
+            } else {
+                Split::Train
             },
-            |(c, _)| c,
-        );
-        s[chosen] += 1;
+        });
     }
-    cells[chosen].0
+    places
+}
+
+/// SplitMix64's mix of `x` (Steele et al. 2014): a seeded choice's bits.
+fn splitmix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }

@@ -11,7 +11,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
-use crate::augment::{Level, Split, assign};
+use crate::augment::{Level, Place, Split, place};
 use crate::cell::{Cell, Variation, compose, transform_box, turned_with_motor};
 use crate::config::{Clamping, Colouring, Config, CropConfig, Variant};
 use crate::coverage::{Surface, overlap};
@@ -102,17 +102,16 @@ impl Recipe {
         })
     }
 
-    /// Sample `index`'s motor variant (`motor.variants` in turn), augmentation level and split.
+    /// Sample `index`'s motor variant, augmentation level and split ([`place`]).
     pub fn placement(&self, index: u64) -> (Option<Variant>, Level, Split) {
-        let variants = &self.config.motor.variants;
-        let (variant, slot, k) = if variants.is_empty() {
-            (None, 0, index)
-        } else {
-            let n = variants.len() as u64;
-            (Some(variants[(index % n) as usize]), index % n, index / n)
-        };
-        let (level, split) = assign(k, slot, &self.config.augment);
-        (variant, level, split)
+        let p = self.place(index);
+        let variant = self.config.motor.variants.get(p.slot as usize).copied();
+        (variant, p.level, p.split)
+    }
+
+    fn place(&self, index: u64) -> Place {
+        let slots = u32::try_from(self.spaces.len()).unwrap_or(u32::MAX);
+        place(index, slots, &self.config.augment)
     }
 
     /// Sample `index`'s seed and motor.
@@ -123,7 +122,7 @@ impl Recipe {
     /// do not form a valid motor.
     pub fn motor(&self, index: u64) -> Result<(u64, Motor)> {
         let seed = derive_seed(self.config.seed, index);
-        let space = &self.spaces[(index % self.spaces.len() as u64) as usize];
+        let space = &self.spaces[self.place(index).slot as usize];
         let motor = build(
             &space.sample(Seed::Motor.of(seed))?,
             self.config.motor.detail,

@@ -5,10 +5,8 @@ use motorgen::kernel::inspect;
 use motorgen::{Detail, ParamSpace, PartKind, Scheme, build, derive_seed};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use std::collections::HashMap;
 
-use scene::augment::{Level, Split};
-use scene::config::{BUILTIN, CameraConfig, Config, Rig, Variant, default_table};
+use scene::config::{BUILTIN, CameraConfig, Config, Rig, default_table};
 use scene::rig::camera_poses;
 use scene::{Clamping, Recipe, Variation, compose};
 
@@ -178,81 +176,6 @@ fn cap_cameras_look_at_the_motor_from_the_configured_cap() {
     assert!((Vec3::from(pose.translation) - (centre + Vec3::new(0.0, 0.0, 0.5))).length() < 1e-6);
     // world +y appears up in the image (camera y is down)
     assert!(pose.transform_vector3(Vec3::Y).dot(Vec3::Y) < -0.999);
-}
-
-/// The largest distance, over every prefix of the first `n` samples of `recipe` and every
-/// variant × level × split cell, between the cell's count and its share of the variant's
-/// samples in that prefix.
-fn worst_cell(recipe: &Recipe, n: u64) -> f64 {
-    let a = &recipe.config.augment;
-    let share = |l: Level, s: Split| {
-        f64::from(l.config(a).share)
-            * f64::from(if s == Split::Validation {
-                a.validation
-            } else {
-                1.0 - a.validation
-            })
-    };
-    // per variant: its samples so far, and their count per cell
-    type Counts = (f64, HashMap<(Level, Split), f64>);
-    let mut per_variant: HashMap<Option<Variant>, Counts> = HashMap::new();
-    let mut worst = 0f64;
-    for i in 0..n {
-        let (variant, level, split) = recipe.placement(i);
-        let (seen, counts) = per_variant.entry(variant).or_default();
-        *seen += 1.0;
-        *counts.entry((level, split)).or_default() += 1.0;
-        for l in Level::ALL {
-            for s in [Split::Train, Split::Validation] {
-                let c = counts.get(&(l, s)).copied().unwrap_or(0.0);
-                worst = worst.max((c - share(l, s) * *seen).abs());
-            }
-        }
-    }
-    worst
-}
-
-#[test]
-fn every_variant_level_and_split_cell_holds_its_share_in_every_prefix() {
-    let recipe = |sets: &[(&str, toml::Value)]| {
-        let mut t = default_table();
-        for (k, v) in sets {
-            scene::set_key(&mut t, k, v.clone()).unwrap();
-        }
-        Recipe::new(Config::from_table(&t).unwrap(), Vec::new()).unwrap()
-    };
-    let default = recipe(&[]);
-    // SynMotor's composition per motor type: 20 / 20 / 60, validation 4 / 4 / 12 of every 100
-    for n in [20, 100, 200, 1000, 20_000] {
-        let worst = worst_cell(&default, n);
-        assert!(
-            worst < 1.0,
-            "n = {n}: a cell is {worst} samples off its share"
-        );
-    }
-    let shares = |c: f64, o: f64, z: f64, v: f64| {
-        recipe(&[
-            ("augment.clean.share", c.into()),
-            ("augment.occluded.share", o.into()),
-            ("augment.noisy.share", z.into()),
-            ("augment.validation", v.into()),
-        ])
-    };
-    for r in [
-        shares(0.3, 0.3, 0.4, 0.15),
-        shares(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.1),
-        shares(0.123, 0.456, 0.421, 0.333),
-        shares(1.0, 0.0, 0.0, 0.2),
-        shares(0.2, 0.2, 0.6, 0.0),
-        recipe(&[("motor.variants", toml::Value::Array(Vec::new()))]),
-    ] {
-        let worst = worst_cell(&r, 3000);
-        assert!(
-            worst < 1.0,
-            "{:?}: a cell is {worst} samples off",
-            r.config.augment
-        );
-    }
 }
 
 #[test]

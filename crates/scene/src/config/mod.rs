@@ -137,8 +137,8 @@ impl Variant {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotorConfig {
-    /// Variants in turn (sample i gets `variants[i % len]`: equal numbers of each); empty: the
-    /// parameter distributions decide.
+    /// Variants in equal numbers, each within two samples of its share in every prefix
+    /// ([`crate::augment::place`]); empty: the parameter distributions decide.
     pub variants: Vec<Variant>,
     /// Tessellation.
     pub detail: Detail,
