@@ -379,3 +379,61 @@ fn a_sweep_of_100000_combinations_starts_at_once_and_gives_each_sample_its_own()
     assert!((d - (0.55 + 0.1 / 999.0)).abs() < 1e-9, "{d}");
     assert!((t - 0.1).abs() < 1e-9, "{t}");
 }
+
+#[test]
+fn the_flat_layout_writes_the_same_files_under_names_that_carry_the_split() {
+    let dir = tempfile::tempdir().unwrap();
+    let (nested, flat) = (dir.path().join("nested"), dir.path().join("flat"));
+    let a = small("12", &["--set", "output.formats=[\"npy\",\"ply\"]"]);
+    ok(&generate(&nested, &args(&a)));
+    ok(&generate(
+        &flat,
+        &args(&[&a[..], &["--set".into(), "output.layout=flat".into()]].concat()),
+    ));
+    let rows = |dir: &Path| -> Vec<serde_json::Value> {
+        std::fs::read_to_string(dir.join("manifest.jsonl"))
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    };
+    let (n, f) = (rows(&nested), rows(&flat));
+    assert_eq!(n.len(), 12);
+    assert!(f.iter().any(|r| r["split"] == "validation"));
+    for (n, f) in n.iter().zip(&f) {
+        let prefix = if n["split"] == "train" {
+            "Training_"
+        } else {
+            "Validation_"
+        };
+        let (nj, fj) = (n["json"].as_str().unwrap(), f["json"].as_str().unwrap());
+        assert_eq!(
+            fj,
+            format!("json/{prefix}{}", nj.split_once('/').unwrap().1)
+        );
+        let files = |r: &serde_json::Value| -> Vec<String> {
+            r["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|f| f.as_str().unwrap().into())
+                .collect()
+        };
+        for (nf, ff) in files(n).iter().zip(files(f)) {
+            let (_, name) = nf.split_once('/').unwrap();
+            let ext = name.rsplit_once('.').unwrap().1;
+            assert_eq!(ff, format!("{ext}/{prefix}{name}"));
+            assert_eq!(
+                std::fs::read(nested.join(nf)).unwrap(),
+                std::fs::read(flat.join(&ff)).unwrap()
+            );
+        }
+    }
+    let mut folders: Vec<String> = std::fs::read_dir(&flat)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| !n.contains('.'))
+        .collect();
+    folders.sort();
+    assert_eq!(folders, ["json", "npy", "ply"]);
+}

@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 
 use motorgen::export::{temporary_token, writer_token};
 
-use crate::dataset::{Shard, files_in};
+use crate::dataset::{SAMPLE_FOLDERS, Shard, files_in};
 use crate::error::{Error, Result};
 
 /// The locks a run holds on its output folder while it writes; dropping it releases them.
@@ -176,8 +176,8 @@ impl Claim {
     }
 
     /// Releases the folder after a refused start, removing what this run made if it is alone
-    /// in the folder: its lock files, then `.motorfactory/writers`, `.motorfactory`, `train`,
-    /// `validation` and the folder itself where each is then empty. Anything another run wrote,
+    /// in the folder: its lock files, then `.motorfactory/writers`, `.motorfactory`, the sample
+    /// folders and the folder itself where each is then empty. Anything another run wrote,
     /// or a lock another run holds, keeps the folder.
     pub(crate) fn withdraw(self) {
         // alone: the run lock held exclusively (a shard's shared lock converted)
@@ -193,15 +193,11 @@ impl Claim {
         }
         let out = self.out.clone();
         drop(self);
-        for folder in [
-            dir.join("writers"),
-            dir,
-            out.join("train"),
-            out.join("validation"),
-            out,
-        ] {
+        let samples = SAMPLE_FOLDERS.map(|f| out.join(f));
+        for folder in [dir.join("writers"), dir].into_iter().chain(samples) {
             let _ = std::fs::remove_dir(folder);
         }
+        let _ = std::fs::remove_dir(out);
     }
 }
 

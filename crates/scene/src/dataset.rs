@@ -19,8 +19,9 @@ use rayon::prelude::*;
 use sensor::formats::CloudFormat;
 use serde::{Deserialize, Serialize};
 
+use crate::augment::Split;
 use crate::claim::{Claim, plain_dir};
-use crate::config::{Combinations, Config, set_key};
+use crate::config::{Combinations, Config, Layout, set_key};
 use crate::error::{Error, Result};
 use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample, make};
@@ -331,11 +332,18 @@ impl Dataset {
             "instances": "motor parts 1..k in build order (see each sample's objects), then the table, fixture parts and panels",
         });
         save(&out.join("labels.json"), &|w| write_json(w, &labels))?;
+        if self.base.config.output.layout == Layout::SplitFolders {
+            for split in [Split::Train, Split::Validation] {
+                plain_dir(&out.join(split.name()))?;
+            }
+        }
         let mut dirs = vec![out.clone()];
-        for split in ["train", "validation"] {
-            let dir = out.join(split);
-            plain_dir(&dir)?;
-            dirs.push(dir);
+        for folder in SAMPLE_FOLDERS {
+            let dir = out.join(folder);
+            if std::fs::symlink_metadata(&dir).is_ok() {
+                plain_dir(&dir)?;
+                dirs.push(dir);
+            }
         }
         claim.remove_stale_temporaries(&dirs)?;
         drop(setup);
@@ -483,6 +491,19 @@ impl Dataset {
         let split = sample.split.name();
         let stem = sample.stem();
         let files = view_files(recipe, sample);
+        let json_rel = placed(out.layout, sample.split, "json", &format!("{stem}.json"));
+        let mut folders: Vec<&str> = files
+            .iter()
+            .flatten()
+            .map(|(rel, _)| rel.as_str())
+            .chain([json_rel.as_str()])
+            .filter_map(|rel| rel.split_once('/').map(|(folder, _)| folder))
+            .collect();
+        folders.sort_unstable();
+        folders.dedup();
+        for folder in folders {
+            plain_dir(&self.out.join(folder))?;
+        }
         let mut class_counts = vec![0u64; out.scheme.classes().len()];
         for (view, files) in sample.views.iter().zip(&files) {
             for (rel, file) in files {
@@ -514,7 +535,6 @@ impl Dataset {
             .iter()
             .map(|files| files.iter().map(|(rel, _)| rel.clone()).collect())
             .collect();
-        let json_rel = format!("{split}/{stem}.json");
         let doc = sample.json(recipe, &names);
         save(&self.out.join(&json_rel), &|w| {
             w.write_all(doc.to_text().as_bytes())
@@ -543,11 +563,47 @@ enum ViewFile {
     Image(usize),
 }
 
+impl ViewFile {
+    /// Its folder in the flat layout.
+    fn folder(self) -> &'static str {
+        match self {
+            ViewFile::Cloud(CloudFormat::PcdAscii) => CloudFormat::Pcd.name(),
+            ViewFile::Cloud(f) => f.name(),
+            ViewFile::SceneCloud(_) => "scene",
+            ViewFile::Image(_) => "images",
+        }
+    }
+}
+
+/// Every folder a sample's files may go to, in either layout.
+pub(crate) const SAMPLE_FOLDERS: [&str; 9] = [
+    "train",
+    "validation",
+    "ply",
+    "pcd",
+    "npy",
+    "npz",
+    "scene",
+    "images",
+    "json",
+];
+
+/// Where a file of a sample of `split` named `name` goes, relative to the dataset folder:
+/// `train/` or `validation/`, or in the flat layout the folder of its kind (`folder`) with the
+/// split at the start of its name, as AgiProbot's preparation names them.
+fn placed(layout: Layout, split: Split, folder: &str, name: &str) -> String {
+    match (layout, split) {
+        (Layout::SplitFolders, _) => format!("{}/{name}", split.name()),
+        (Layout::Flat, Split::Train) => format!("{folder}/Training_{name}"),
+        (Layout::Flat, Split::Validation) => format!("{folder}/Validation_{name}"),
+    }
+}
+
 /// The files a dataset writes for each view of `sample`, each with its path relative to the
 /// dataset's folder, in the order its JSON lists them.
 fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> {
     let out = &recipe.config.output;
-    let (split, stem) = (sample.split.name(), sample.stem());
+    let stem = sample.stem();
     let many = sample.views.len() > 1;
     sample
         .views
@@ -576,7 +632,7 @@ fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> 
             }
             files
                 .into_iter()
-                .map(|(name, file)| (format!("{split}/{name}"), file))
+                .map(|(name, file)| (placed(out.layout, sample.split, file.folder(), &name), file))
                 .collect()
         })
         .collect()

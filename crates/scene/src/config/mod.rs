@@ -406,6 +406,20 @@ pub struct OutputConfig {
     /// Also record, for every pair of views, the share of each view's motor points whose
     /// surface the other view also measured (registration pairs' overlap).
     pub overlap: bool,
+    /// How the samples' files are laid out in folders.
+    pub layout: Layout,
+}
+
+/// How a dataset's sample files are laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Layout {
+    /// `train/` and `validation/`, every file of a sample in its split's folder.
+    SplitFolders,
+    /// A folder per kind of file (`npy/`, `ply/`, `pcd/`, `npz/` for the clouds, `scene/`,
+    /// `images/`, `json/`), the split at the start of each name (`Training_…`,
+    /// `Validation_…`), as KIT's AgiProbot loaders read a folder of clouds.
+    Flat,
 }
 
 /// What the points' rgb holds.
