@@ -6,12 +6,7 @@ use crate::error::{CliError, CliResult};
 /// control group allows (a container's limit) and what its address-space limit (`ulimit -v`,
 /// `prlimit --as`) leaves; None where none is known.
 fn available() -> Option<u64> {
-    let meminfo = std::fs::read_to_string("/proc/meminfo").ok();
-    let system = meminfo.as_deref().and_then(|m| {
-        let line = m.lines().find(|l| l.starts_with("MemAvailable:"))?;
-        let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-        Some(kb * 1024)
-    });
+    let system = proc_field("/proc/meminfo", "MemAvailable:").map(|kb| kb * 1024);
     let read = |name: &str| -> Option<u64> {
         std::fs::read_to_string(format!("/sys/fs/cgroup/{name}"))
             .ok()?
@@ -21,29 +16,19 @@ fn available() -> Option<u64> {
     };
     let group =
         read("memory.max").map(|max| max.saturating_sub(read("memory.current").unwrap_or(0)));
-    [system, group, address_space()].into_iter().flatten().min()
+    // the address-space limit (bytes; "unlimited" is no number) less what is mapped now (kB)
+    let address_space = proc_field("/proc/self/limits", "Max address space").map(|soft| {
+        let mapped = proc_field("/proc/self/status", "VmSize:").unwrap_or(0);
+        soft.saturating_sub(mapped * 1024)
+    });
+    [system, group, address_space].into_iter().flatten().min()
 }
 
-/// What the address-space limit leaves this process: the soft limit less the address space it
-/// maps now; None without a limit.
-fn address_space() -> Option<u64> {
-    let limits = std::fs::read_to_string("/proc/self/limits").ok()?;
-    let soft: u64 = limits
-        .lines()
-        .find_map(|l| l.strip_prefix("Max address space"))?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()?;
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let kb: u64 = status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmSize:"))?
-        .split_whitespace()
-        .next()?
-        .parse()
-        .ok()?;
-    Some(soft.saturating_sub(kb * 1024))
+/// The number that follows `name` on its line of the /proc file `path`.
+fn proc_field(path: &str, name: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let line = text.lines().find_map(|l| l.strip_prefix(name))?;
+    line.split_whitespace().next()?.parse().ok()
 }
 
 /// Bytes in words: `1.5 GB`, `300 MB`.

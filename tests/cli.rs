@@ -4,17 +4,9 @@
 use std::path::Path;
 use std::process::Output;
 
-use kit::{files_below, motorfactory};
+use kit::{documented_sensor, files_below, motorfactory, run, stderr};
 
 mod kit;
-
-fn run(args: &[&str]) -> Output {
-    motorfactory().args(args).output().unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// Each command exits 2 with a message containing its text, and `out` is never created.
 fn assert_refused(cases: &[(Vec<&str>, &str)], out: &Path) {
@@ -564,16 +556,7 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
 
 #[test]
 fn the_documented_custom_sensor_is_a_valid_sensor() {
-    let doc = std::fs::read_to_string("docs/sensors.md").unwrap();
-    let after = doc.split("## Custom sensors").nth(1).unwrap();
-    let block = after
-        .split("```toml\n")
-        .nth(1)
-        .unwrap()
-        .split("```")
-        .next()
-        .unwrap();
-    let spec: sensor::SensorSpec = toml::from_str(block).unwrap();
+    let spec: sensor::SensorSpec = toml::from_str(&documented_sensor()).unwrap();
     spec.validate().unwrap();
     assert_eq!(spec.noise.axial.per_metre, 1.5e-4);
     assert!(matches!(spec.model, sensor::Model::StructuredLight { .. }));

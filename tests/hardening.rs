@@ -7,17 +7,9 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use kit::motorfactory;
+use kit::{documented_sensor, motorfactory, run, stderr};
 
 mod kit;
-
-fn run(args: &[&str]) -> Output {
-    motorfactory().args(args).output().unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// Runs `command` to its end, or kills it after 20 s and fails.
 fn within_20_s(mut command: Command) -> Output {
@@ -65,10 +57,14 @@ fn a_refused_shard_never_removes_what_live_shards_write() {
     let dir = tempfile::tempdir().unwrap();
     for trial in 0..4 {
         let out = dir.path().join(format!("d{trial}"));
-        let runs: Vec<_> = [1, 3, 4]
-            .map(|part| far_shard(part, &out).stderr(Stdio::null()).spawn().unwrap())
-            .into_iter()
-            .collect();
+        // the refused shard makes the folder; the others join while it makes its first sample
+        let mut runs = vec![far_shard(1, &out).stderr(Stdio::null()).spawn().unwrap()];
+        while !out.exists() {
+            std::thread::sleep(Duration::from_micros(200));
+        }
+        for part in [3, 4] {
+            runs.push(far_shard(part, &out).stderr(Stdio::null()).spawn().unwrap());
+        }
         let codes: Vec<Option<i32>> = runs
             .into_iter()
             .map(|c| c.wait_with_output().unwrap().status.code())
@@ -286,15 +282,13 @@ fn the_memory_estimate_heeds_the_address_space_limit() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("d");
     // 20 M samples keep 10 GB of manifest rows: more than a 6 GiB address space
-    let o = Command::new("sh")
-        .arg("-c")
-        .arg(format!(
-            "ulimit -v 6291456 && exec {} generate -n 20000000 --out {}",
-            env!("CARGO_BIN_EXE_motorfactory"),
-            out.display()
-        ))
-        .output()
-        .unwrap();
+    let mut sh = Command::new("sh");
+    sh.arg("-c").arg(format!(
+        "ulimit -v 6291456 && exec {} generate -n 20000000 --out {}",
+        env!("CARGO_BIN_EXE_motorfactory"),
+        out.display()
+    ));
+    let o = within_20_s(sh);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("of memory"), "{}", stderr(&o));
     assert!(!out.exists());
@@ -374,15 +368,7 @@ fn reading_errors_are_short_and_free_of_rust_words() {
     let long = format!("samples = 5\n[camera\nrig = \"{}\"\n", "x".repeat(2000));
     let syntax = write("syntax.toml", &long);
     let no_kind = write("model.toml", "name = \"x\"\nmodel = 5\n");
-    let doc = std::fs::read_to_string("docs/sensors.md").unwrap();
-    let after = doc.split("## Custom sensors").nth(1).unwrap();
-    let sensor = after
-        .split("```toml\n")
-        .nth(1)
-        .unwrap()
-        .split("```")
-        .next()
-        .unwrap();
+    let sensor = documented_sensor();
     assert!(sensor.contains("k1 = -0.1"));
     let distortion = write("lens.toml", &sensor.replace("k1 = -0.1", "k1 = 500.0"));
     let ply = write(

@@ -2,11 +2,32 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::Command;
+use std::process::{Command, Output};
 
 /// The `motorfactory` binary built for these tests.
 pub fn motorfactory() -> Command {
     Command::new(env!("CARGO_BIN_EXE_motorfactory"))
+}
+
+/// Runs the binary with `args` to its end.
+#[allow(dead_code)]
+pub fn run(args: &[&str]) -> Output {
+    motorfactory().args(args).output().unwrap()
+}
+
+/// What a run printed on standard error.
+#[allow(dead_code)]
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The custom sensor's TOML that `docs/sensors.md` shows.
+#[allow(dead_code)]
+pub fn documented_sensor() -> String {
+    let doc = std::fs::read_to_string("docs/sensors.md").unwrap();
+    let after = doc.split("## Custom sensors").nth(1).unwrap();
+    let block = after.split("```toml\n").nth(1).unwrap();
+    block.split("```").next().unwrap().to_string()
 }
 
 /// Every file below `dir`, by path relative to it, with its bytes.
