@@ -60,7 +60,7 @@ enum Mode {
 const ATTEMPTS: usize = 8;
 
 impl Claim {
-    /// Claims `out` (which exists) for `shard`.
+    /// Claims `out` (a folder; made if missing) for `shard`.
     ///
     /// # Errors
     ///
@@ -84,6 +84,13 @@ impl Claim {
     }
 
     fn try_take(out: &Path, shard: Shard) -> Result<Claim> {
+        // made again should a refused run that made it have removed it meanwhile
+        match std::fs::create_dir(out) {
+            Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => {
+                return Err(Error::io(out)(e));
+            }
+            _ => {}
+        }
         let dir = out.join(".motorfactory");
         plain_dir(&dir)?;
         let busy = |why: &str| {
