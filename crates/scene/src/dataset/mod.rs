@@ -3,28 +3,33 @@
 //!
 //! Layout of a dataset folder:
 //! - `config.toml`: the resolved configuration (every key), `labels.json`: the label scheme;
-//! - `train/` and `validation/`: per sample `{index}_{variant}_{level}.json` and its clouds
-//!   (`_v{k}` per view when there are several views; `_scene` for the whole scan; images);
+//! - `train/` and `validation/`, or with the flat layout a folder per kind of file (`files`):
+//!   per sample `{index}_{variant}_{level}.json` and its clouds (`_v{k}` per view when there
+//!   are several views; `_scene` for the whole scan; images);
 //! - `manifest.jsonl` (`manifest-{i}-of-{n}.jsonl` for shard i of n): one row per finished
 //!   sample, sorted by index when the run ends.
 
-use std::collections::BTreeMap;
-use std::io::{BufRead, Write};
+mod files;
+mod folder;
+
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use motorgen::Scheme;
-use motorgen::export::write_atomic;
 use rayon::prelude::*;
-use sensor::formats::CloudFormat;
 use serde::{Deserialize, Serialize};
 
 use crate::augment::Split;
 use crate::claim::{Claim, plain_dir};
 use crate::config::{Combinations, Config, Layout, set_key};
 use crate::error::{Error, Result};
-use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample, make};
+
+pub(crate) use files::SAMPLE_FOLDERS;
+pub use files::sample_json;
+pub(crate) use folder::files_in;
+use folder::{make_out, read_all_rows, save, unwritable, write_json, write_rows};
 
 /// Which part of the samples a run makes: those with `index % count == part`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -484,167 +489,6 @@ impl Dataset {
         drop(claim);
         Ok(summary)
     }
-
-    /// Writes a sample's files and returns its manifest row.
-    fn write(&self, recipe: &Recipe, sample: &Sample) -> Result<Row> {
-        let out = &recipe.config.output;
-        let split = sample.split.name();
-        let stem = sample.stem();
-        let files = view_files(recipe, sample);
-        let json_rel = placed(out.layout, sample.split, "json", &format!("{stem}.json"));
-        let mut folders: Vec<&str> = files
-            .iter()
-            .flatten()
-            .map(|(rel, _)| rel.as_str())
-            .chain([json_rel.as_str()])
-            .filter_map(|rel| rel.split_once('/').map(|(folder, _)| folder))
-            .collect();
-        folders.sort_unstable();
-        folders.dedup();
-        for folder in folders {
-            plain_dir(&self.out.join(folder))?;
-        }
-        let mut class_counts = vec![0u64; out.scheme.classes().len()];
-        for (view, files) in sample.views.iter().zip(&files) {
-            for (rel, file) in files {
-                let path = self.out.join(rel);
-                match *file {
-                    ViewFile::Cloud(f) => {
-                        save(&path, &|w| f.write(w, &recipe.coloured(&view.cloud)))
-                    }
-                    ViewFile::SceneCloud(f) => {
-                        let cloud = view
-                            .scene_cloud
-                            .as_ref()
-                            .expect("a view with a scene cloud");
-                        save(&path, &|w| f.write(w, &recipe.coloured(cloud)))
-                    }
-                    ViewFile::Image(k) => {
-                        let scan = view.scan.as_ref().expect("a view with a scan");
-                        save(&path, &|w| (sensor::formats::IMAGES[k].1)(w, scan))
-                    }
-                }?;
-            }
-            for &c in &view.cloud.class {
-                if let Some(n) = class_counts.get_mut(c as usize) {
-                    *n += 1;
-                }
-            }
-        }
-        let names: Vec<Vec<String>> = files
-            .iter()
-            .map(|files| files.iter().map(|(rel, _)| rel.clone()).collect())
-            .collect();
-        let doc = sample.json(recipe, &names);
-        save(&self.out.join(&json_rel), &|w| {
-            w.write_all(doc.to_text().as_bytes())
-        })?;
-        Ok(Row {
-            index: sample.index,
-            split: split.into(),
-            level: sample.level.name().into(),
-            variant: sample.variant.map_or("motor".into(), |v| format!("{v:?}")),
-            points: sample.views.iter().map(|v| v.cloud.len()).collect(),
-            json: json_rel,
-            files: names.concat(),
-            class_counts,
-        })
-    }
-}
-
-/// What one of a view's files holds.
-#[derive(Clone, Copy)]
-enum ViewFile {
-    /// The cropped cloud in a format.
-    Cloud(CloudFormat),
-    /// The whole scene's cloud.
-    SceneCloud(CloudFormat),
-    /// An image of the scan ([`sensor::formats::IMAGES`], by index).
-    Image(usize),
-}
-
-impl ViewFile {
-    /// Its folder in the flat layout.
-    fn folder(self) -> &'static str {
-        match self {
-            ViewFile::Cloud(CloudFormat::PcdAscii) => CloudFormat::Pcd.name(),
-            ViewFile::Cloud(f) => f.name(),
-            ViewFile::SceneCloud(_) => "scene",
-            ViewFile::Image(_) => "images",
-        }
-    }
-}
-
-/// Every folder a sample's files may go to, in either layout.
-pub(crate) const SAMPLE_FOLDERS: [&str; 9] = [
-    "train",
-    "validation",
-    "ply",
-    "pcd",
-    "npy",
-    "npz",
-    "scene",
-    "images",
-    "json",
-];
-
-/// Where a file of a sample of `split` named `name` goes, relative to the dataset folder:
-/// `train/` or `validation/`, or in the flat layout the folder of its kind (`folder`) with the
-/// split at the start of its name, as AgiProbot's preparation names them.
-fn placed(layout: Layout, split: Split, folder: &str, name: &str) -> String {
-    match (layout, split) {
-        (Layout::SplitFolders, _) => format!("{}/{name}", split.name()),
-        (Layout::Flat, Split::Train) => format!("{folder}/Training_{name}"),
-        (Layout::Flat, Split::Validation) => format!("{folder}/Validation_{name}"),
-    }
-}
-
-/// The files a dataset writes for each view of `sample`, each with its path relative to the
-/// dataset's folder, in the order its JSON lists them.
-fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> {
-    let out = &recipe.config.output;
-    let stem = sample.stem();
-    let many = sample.views.len() > 1;
-    sample
-        .views
-        .iter()
-        .enumerate()
-        .map(|(k, view)| {
-            let view_stem = if many {
-                format!("{stem}_v{k}")
-            } else {
-                stem.clone()
-            };
-            let mut files: Vec<(String, ViewFile)> = out
-                .formats
-                .iter()
-                .map(|&f| (f.file_name(&view_stem), ViewFile::Cloud(f)))
-                .collect();
-            if view.scene_cloud.is_some() {
-                let f = out.formats.first().copied().unwrap_or(CloudFormat::Ply);
-                let name = f.file_name(&format!("{view_stem}_scene"));
-                files.push((name, ViewFile::SceneCloud(f)));
-            }
-            if view.scan.is_some() {
-                for (k, (name, _)) in sensor::formats::IMAGES.iter().enumerate() {
-                    files.push((format!("{view_stem}_{name}"), ViewFile::Image(k)));
-                }
-            }
-            files
-                .into_iter()
-                .map(|(name, file)| (placed(out.layout, sample.split, file.folder(), &name), file))
-                .collect()
-        })
-        .collect()
-}
-
-/// The JSON a dataset writes for `sample` of `recipe`, the files it lists included.
-pub fn sample_json(recipe: &Recipe, sample: &Sample) -> SampleJson {
-    let names: Vec<Vec<String>> = view_files(recipe, sample)
-        .into_iter()
-        .map(|files| files.into_iter().map(|(rel, _)| rel).collect())
-        .collect();
-    sample.json(recipe, &names)
 }
 
 /// The recipe of combination `c` of `combinations` laid over `table`.
@@ -677,100 +521,6 @@ fn to_toml_int(n: u64) -> Result<i64> {
     i64::try_from(n).map_err(|_| Error::invalid("number", n, "at most 2^63 - 1"))
 }
 
-/// Makes the output folder `out` (and the folders above it): whether this call made it. An
-/// existing `out` must be a folder (a symbolic link to one is followed).
-fn make_out(out: &Path) -> Result<bool> {
-    let cannot = |e: std::io::Error| {
-        Error::Output(format!(
-            "cannot make output folder {}: {e}; choose another --out",
-            out.display()
-        ))
-    };
-    let parent = out.parent().filter(|p| !p.as_os_str().is_empty());
-    if let Some(parent) = parent {
-        std::fs::create_dir_all(parent).map_err(cannot)?;
-    }
-    match std::fs::create_dir(out) {
-        Ok(()) => Ok(true),
-        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => match std::fs::metadata(out) {
-            Ok(m) if m.is_dir() => Ok(false),
-            Ok(_) => Err(Error::Output(format!(
-                "output folder {} is a file; choose another --out",
-                out.display()
-            ))),
-            Err(_) => Err(Error::Output(format!(
-                "output folder {} is a symbolic link to nothing; remove it or choose another --out",
-                out.display()
-            ))),
-        },
-        Err(e) => Err(cannot(e)),
-    }
-}
-
-/// An output folder this process may not write into is the user's to fix, not a failure while
-/// working: an [`Error::Output`].
-fn unwritable(out: &Path, e: Error) -> Error {
-    match e {
-        Error::Io { path, source }
-            if matches!(
-                source.kind(),
-                std::io::ErrorKind::PermissionDenied | std::io::ErrorKind::ReadOnlyFilesystem
-            ) =>
-        {
-            Error::Output(format!(
-                "output folder {}: cannot write {} ({source}); choose another --out",
-                out.display(),
-                path.display()
-            ))
-        }
-        e => e,
-    }
-}
-
-/// Writes `body` to `path` through a temporary file and a rename.
-fn save(path: &Path, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
-    write_atomic(path, body).map_err(|e| match e {
-        motorgen::Error::Io { path, source } => Error::Io { path, source },
-        other => Error::Output(other.to_string()),
-    })
-}
-
-fn write_json(w: &mut dyn Write, value: &serde_json::Value) -> std::io::Result<()> {
-    serde_json::to_writer_pretty(&mut *w, value)?;
-    w.write_all(b"\n")
-}
-
-/// Writes a manifest.
-fn write_rows(path: &Path, rows: &[Row]) -> Result<()> {
-    save(path, &|w| {
-        for r in rows {
-            serde_json::to_writer(&mut *w, r)?;
-            w.write_all(b"\n")?;
-        }
-        Ok(())
-    })
-}
-
-/// The rows of every manifest in `out` (the unsharded `manifest.jsonl` and each shard's), by
-/// index; a torn last line (a run killed while appending) is dropped, and a sample listed twice
-/// counts once.
-fn read_all_rows(out: &Path) -> Result<BTreeMap<u64, Row>> {
-    let mut rows = BTreeMap::new();
-    for (path, name) in files_in(out)? {
-        if !(name.starts_with("manifest") && name.ends_with(".jsonl")) {
-            continue;
-        }
-        let file = std::fs::File::open(&path).map_err(Error::io(&path))?;
-        for line in std::io::BufReader::new(file).lines() {
-            let line = line.map_err(Error::io(&path))?;
-            if let Ok(row) = serde_json::from_str::<Row>(&line) {
-                rows.insert(row.index, row);
-            }
-        }
-    }
-    Ok(rows)
-}
-
 /// Why `sample` holds no point: the sensor's range against the nearest surface in view.
 fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
     let sensor = &sample.sensor;
@@ -799,24 +549,4 @@ fn why_empty(recipe: &Recipe, sample: &Sample) -> String {
         ),
     };
     format!("sample {} holds no point: {what}", sample.index)
-}
-
-/// The entries of `dir` with their names (none when `dir` does not exist).
-pub(crate) fn files_in(dir: &Path) -> Result<Vec<(PathBuf, String)>> {
-    let entries = match std::fs::read_dir(dir) {
-        Ok(entries) => entries,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(Error::io(dir)(e)),
-    };
-    entries
-        .map(|entry| {
-            let path = entry.map_err(Error::io(dir))?.path();
-            let name = path
-                .file_name()
-                .unwrap_or_default()
-                .to_string_lossy()
-                .into_owned();
-            Ok((path, name))
-        })
-        .collect()
 }

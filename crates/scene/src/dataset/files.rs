@@ -1,0 +1,176 @@
+//! A sample's files: where each goes in the folder's layout (`train/` and `validation/`, or a
+//! folder per kind with the split in the name), and writing them with its manifest row.
+
+use sensor::formats::CloudFormat;
+
+use super::folder::save;
+use super::{Dataset, Row};
+use crate::augment::Split;
+use crate::claim::plain_dir;
+use crate::config::Layout;
+use crate::error::Result;
+use crate::record::SampleJson;
+use crate::sample::{Recipe, Sample};
+
+impl Dataset {
+    /// Writes a sample's files and returns its manifest row.
+    pub(super) fn write(&self, recipe: &Recipe, sample: &Sample) -> Result<Row> {
+        let out = &recipe.config.output;
+        let split = sample.split.name();
+        let stem = sample.stem();
+        let files = view_files(recipe, sample);
+        let json_rel = placed(out.layout, sample.split, "json", &format!("{stem}.json"));
+        let mut folders: Vec<&str> = files
+            .iter()
+            .flatten()
+            .map(|(rel, _)| rel.as_str())
+            .chain([json_rel.as_str()])
+            .filter_map(|rel| rel.split_once('/').map(|(folder, _)| folder))
+            .collect();
+        folders.sort_unstable();
+        folders.dedup();
+        for folder in folders {
+            plain_dir(&self.out.join(folder))?;
+        }
+        let mut class_counts = vec![0u64; out.scheme.classes().len()];
+        for (view, files) in sample.views.iter().zip(&files) {
+            for (rel, file) in files {
+                let path = self.out.join(rel);
+                match *file {
+                    ViewFile::Cloud(f) => {
+                        save(&path, &|w| f.write(w, &recipe.coloured(&view.cloud)))
+                    }
+                    ViewFile::SceneCloud(f) => {
+                        let cloud = view
+                            .scene_cloud
+                            .as_ref()
+                            .expect("a view with a scene cloud");
+                        save(&path, &|w| f.write(w, &recipe.coloured(cloud)))
+                    }
+                    ViewFile::Image(k) => {
+                        let scan = view.scan.as_ref().expect("a view with a scan");
+                        save(&path, &|w| (sensor::formats::IMAGES[k].1)(w, scan))
+                    }
+                }?;
+            }
+            for &c in &view.cloud.class {
+                if let Some(n) = class_counts.get_mut(c as usize) {
+                    *n += 1;
+                }
+            }
+        }
+        let names: Vec<Vec<String>> = files
+            .iter()
+            .map(|files| files.iter().map(|(rel, _)| rel.clone()).collect())
+            .collect();
+        let doc = sample.json(recipe, &names);
+        save(&self.out.join(&json_rel), &|w| {
+            w.write_all(doc.to_text().as_bytes())
+        })?;
+        Ok(Row {
+            index: sample.index,
+            split: split.into(),
+            level: sample.level.name().into(),
+            variant: sample.variant.map_or("motor".into(), |v| format!("{v:?}")),
+            points: sample.views.iter().map(|v| v.cloud.len()).collect(),
+            json: json_rel,
+            files: names.concat(),
+            class_counts,
+        })
+    }
+}
+
+/// What one of a view's files holds.
+#[derive(Clone, Copy)]
+enum ViewFile {
+    /// The cropped cloud in a format.
+    Cloud(CloudFormat),
+    /// The whole scene's cloud.
+    SceneCloud(CloudFormat),
+    /// An image of the scan ([`sensor::formats::IMAGES`], by index).
+    Image(usize),
+}
+
+impl ViewFile {
+    /// Its folder in the flat layout.
+    fn folder(self) -> &'static str {
+        match self {
+            ViewFile::Cloud(CloudFormat::PcdAscii) => CloudFormat::Pcd.name(),
+            ViewFile::Cloud(f) => f.name(),
+            ViewFile::SceneCloud(_) => "scene",
+            ViewFile::Image(_) => "images",
+        }
+    }
+}
+
+/// Every folder a sample's files may go to, in either layout.
+pub(crate) const SAMPLE_FOLDERS: [&str; 9] = [
+    "train",
+    "validation",
+    "ply",
+    "pcd",
+    "npy",
+    "npz",
+    "scene",
+    "images",
+    "json",
+];
+
+/// Where a file of a sample of `split` named `name` goes, relative to the dataset folder:
+/// `train/` or `validation/`, or in the flat layout the folder of its kind (`folder`) with the
+/// split at the start of its name, as AgiProbot's preparation names them.
+pub(super) fn placed(layout: Layout, split: Split, folder: &str, name: &str) -> String {
+    match (layout, split) {
+        (Layout::SplitFolders, _) => format!("{}/{name}", split.name()),
+        (Layout::Flat, Split::Train) => format!("{folder}/Training_{name}"),
+        (Layout::Flat, Split::Validation) => format!("{folder}/Validation_{name}"),
+    }
+}
+
+/// The files a dataset writes for each view of `sample`, each with its path relative to the
+/// dataset's folder, in the order its JSON lists them.
+fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> {
+    let out = &recipe.config.output;
+    let stem = sample.stem();
+    let many = sample.views.len() > 1;
+    sample
+        .views
+        .iter()
+        .enumerate()
+        .map(|(k, view)| {
+            let view_stem = if many {
+                format!("{stem}_v{k}")
+            } else {
+                stem.clone()
+            };
+            let mut files: Vec<(String, ViewFile)> = out
+                .formats
+                .iter()
+                .map(|&f| (f.file_name(&view_stem), ViewFile::Cloud(f)))
+                .collect();
+            if view.scene_cloud.is_some() {
+                let f = out.formats.first().copied().unwrap_or(CloudFormat::Ply);
+                let name = f.file_name(&format!("{view_stem}_scene"));
+                files.push((name, ViewFile::SceneCloud(f)));
+            }
+            if view.scan.is_some() {
+                for (k, (name, _)) in sensor::formats::IMAGES.iter().enumerate() {
+                    files.push((format!("{view_stem}_{name}"), ViewFile::Image(k)));
+                }
+            }
+            files
+                .into_iter()
+                .map(|(name, file)| (placed(out.layout, sample.split, file.folder(), &name), file))
+                .collect()
+        })
+        .collect()
+}
+
+/// The JSON a dataset writes for `sample` of `recipe`, the files it lists included.
+pub fn sample_json(recipe: &Recipe, sample: &Sample) -> SampleJson {
+    let names: Vec<Vec<String>> = view_files(recipe, sample)
+        .into_iter()
+        .map(|files| files.into_iter().map(|(rel, _)| rel).collect())
+        .collect();
+    sample.json(recipe, &names)
+}
