@@ -127,25 +127,45 @@ pub struct Place {
 /// exact share of every cell per block), the one furthest behind overall among them. Each block
 /// ends with every count exact, so the guarantees hold over every prefix.
 pub fn place(index: u64, variants: u32, a: &AugmentConfig) -> Place {
-    let (w, d) = weights(cells(a));
+    let shares = cells(a);
     let n = u64::from(variants.max(1));
-    let period = n * d;
-    let key = (w, n, index / period);
     thread_local! {
-        static BLOCK: std::cell::RefCell<Option<(BlockKey, Vec<Place>)>> =
-            const { std::cell::RefCell::new(None) };
+        static BLOCK: std::cell::RefCell<Option<Cached>> = const { std::cell::RefCell::new(None) };
     }
     BLOCK.with_borrow_mut(|cached| {
-        if cached.as_ref().is_none_or(|(k, _)| *k != key) {
-            *cached = Some((key, block(&w, d, n, index / period)));
+        // the weights' period search runs once per configuration, a block once per block
+        let same = |c: &Cached| c.shares == shares.map(f64::to_bits) && c.n == n;
+        if !cached.as_ref().is_some_and(same) {
+            let (w, d) = weights(shares);
+            *cached = Some(Cached {
+                shares: shares.map(f64::to_bits),
+                n,
+                w,
+                d,
+                number: u64::MAX,
+                places: Vec::new(),
+            });
         }
-        let (_, places) = cached.as_ref().expect("a block");
-        places[(index % period) as usize]
+        let c = cached.as_mut().expect("a cached configuration");
+        let period = n * c.d;
+        if c.number != index / period {
+            c.number = index / period;
+            c.places = block(&c.w, c.d, n, c.number);
+        }
+        c.places[(index % period) as usize]
     })
 }
 
-/// What a block of places depends on: the cells' weights, the variants and the block's number.
-type BlockKey = ([u64; 6], u64, u64);
+/// A thread's last block of [`place`] and what it depends on: the cells' shares (as bits) and
+/// their weights, the variants, the block's number.
+struct Cached {
+    shares: [u64; 6],
+    n: u64,
+    w: [u64; 6],
+    d: u64,
+    number: u64,
+    places: Vec<Place>,
+}
 
 /// Block `b` of [`place`]: `n × d` places.
 fn block(w: &[u64; 6], d: u64, n: u64, b: u64) -> Vec<Place> {
