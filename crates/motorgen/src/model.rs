@@ -160,52 +160,62 @@ pub struct Material {
     pub metallic: f32,
     /// Roughness 0..1.
     pub roughness: f32,
+    /// Strength of the specular reflection 0..1 (the add-on's `specular_intensity`, the
+    /// Principled BSDF's specular level: 0.5 reflects 4 % at normal incidence).
+    pub specular: f32,
 }
 
-/// The add-on's materials (its `Materia_Tables`); the armature's copper "Wire" colour is ours
-/// (the add-on left the rotor colours undocumented).
+/// The add-on's materials (its `Materia_Tables`); the armature takes the add-on's windings
+/// ("Wire"), which cover most of it.
 pub static MATERIALS: &[Material] = &[
     Material {
         name: "Metall",
         base_color: [0.3, 0.3, 0.3, 1.0],
         metallic: 0.8,
         roughness: 0.4,
+        specular: 0.9,
     },
     Material {
         name: "Energy",
         base_color: [0.781, 0.775, 0.308, 1.0],
         metallic: 0.0,
         roughness: 0.5,
+        specular: 0.5,
     },
     Material {
         name: "Plastic",
         base_color: [0.0, 0.0, 0.0, 1.0],
         metallic: 0.4,
         roughness: 0.7,
+        specular: 0.5,
     },
     Material {
         name: "Bit",
         base_color: [0.9, 0.9, 0.9, 1.0],
         metallic: 0.9,
         roughness: 0.1,
+        specular: 0.7,
     },
     Material {
         name: "Magnet",
         base_color: [0.099, 0.099, 0.099, 1.0],
         metallic: 0.1,
         roughness: 1.0,
+        specular: 0.5,
     },
     Material {
         name: "Wire",
-        base_color: [0.72, 0.33, 0.12, 1.0],
-        metallic: 0.9,
-        roughness: 0.35,
+        base_color: [0.940_392, 0.266_226, 0.005_395_73, 1.0],
+        metallic: 1.0,
+        roughness: 0.245,
+        specular: 0.5,
     },
     Material {
         name: "Gear",
         base_color: [1.0, 1.0, 1.0, 1.0],
         metallic: 0.1,
         roughness: 0.7,
+        specular: 0.5,
     },
 ];
 

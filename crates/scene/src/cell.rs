@@ -293,11 +293,13 @@ impl Cell {
     }
 }
 
-/// The sensor material of a motor part, from the add-on's colours and metalness: the pole pot
-/// stainless steel and the bolts zinc-plated, specular; the gear container and the cover one
-/// black plastic (so that colour does not tell the two apart); the armature's windings copper.
+/// The sensor material of a motor part: the depth model's reflectivity and specular lobe of its
+/// real material (the pole pot stainless steel and the bolts zinc-plated, specular; the gear
+/// container and the cover one black plastic, so that colour does not tell the two apart; the
+/// armature's windings copper), its colour, metalness, roughness and specular level the
+/// add-on's (`PartKind::material`).
 pub fn material(kind: PartKind) -> Material {
-    match kind {
+    let depth = match kind {
         PartKind::PolePot => STAINLESS_STEEL,
         PartKind::SideBolt | PartKind::CoverBolt => ZINC_PLATED_STEEL,
         PartKind::GearContainer | PartKind::Cover => BLACK_PA66,
@@ -305,6 +307,15 @@ pub fn material(kind: PartKind) -> Material {
         PartKind::Magnet => FERRITE,
         PartKind::Armature => COPPER,
         PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => WHITE_PLASTIC,
+    };
+    let look = kind.material();
+    let [r, g, b, _] = look.base_color;
+    Material {
+        colour: [r, g, b],
+        metallic: look.metallic,
+        roughness: look.roughness,
+        ior_level: look.specular,
+        ..depth
     }
 }
 

@@ -48,6 +48,7 @@ pub mod formats;
 pub mod materials;
 pub mod mesh;
 pub mod noise;
+pub mod render;
 pub mod scan;
 pub mod shapes;
 pub mod spec;

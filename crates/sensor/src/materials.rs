@@ -3,39 +3,51 @@
 use crate::Error;
 use crate::world::Material;
 
-const fn mat(reflectivity: f32, specular: f32, lobe: f32, colour: [f32; 3]) -> Material {
+/// A material of the depth model's `reflectivity`, `specular` share and `lobe`, and the colour
+/// renderer's base `colour`, `metallic` and `roughness` (specular level 0.5).
+const fn mat(
+    reflectivity: f32,
+    specular: f32,
+    lobe: f32,
+    colour: [f32; 3],
+    metallic: f32,
+    roughness: f32,
+) -> Material {
     Material {
         reflectivity,
         specular,
         lobe,
         colour,
+        metallic,
+        roughness,
+        ior_level: 0.5,
     }
 }
 
 /// Glass-filled black polyamide of motor housings: dark, a broad faint sheen.
-pub const BLACK_PA66: Material = mat(0.12, 0.15, 0.3, [0.12; 3]);
+pub const BLACK_PA66: Material = mat(0.12, 0.15, 0.3, [0.12; 3], 0.0, 0.45);
 /// White or natural plastic (gears, plates).
-pub const WHITE_PLASTIC: Material = mat(0.8, 0.05, 0.3, [0.8, 0.8, 0.78]);
+pub const WHITE_PLASTIC: Material = mat(0.8, 0.05, 0.3, [0.8, 0.8, 0.78], 0.0, 0.5);
 /// Light grey plastic (connectors).
-pub const GREY_PLASTIC: Material = mat(0.6, 0.0, 0.2, [0.6; 3]);
+pub const GREY_PLASTIC: Material = mat(0.6, 0.0, 0.2, [0.6; 3], 0.0, 0.6);
 /// Bright zinc plating of screws: a narrow, strong highlight.
-pub const ZINC_PLATED_STEEL: Material = mat(0.7, 0.8, 0.1, [0.7, 0.7, 0.72]);
+pub const ZINC_PLATED_STEEL: Material = mat(0.7, 0.8, 0.1, [0.7, 0.7, 0.72], 1.0, 0.2);
 /// Drawn or polished stainless steel (pole pots).
-pub const STAINLESS_STEEL: Material = mat(0.45, 0.6, 0.15, [0.45, 0.45, 0.47]);
+pub const STAINLESS_STEEL: Material = mat(0.45, 0.6, 0.15, [0.45, 0.45, 0.47], 1.0, 0.25);
 /// Bare, brushed aluminium.
-pub const ALUMINIUM: Material = mat(0.6, 0.4, 0.15, [0.6, 0.6, 0.62]);
+pub const ALUMINIUM: Material = mat(0.6, 0.4, 0.15, [0.6, 0.6, 0.62], 1.0, 0.3);
 /// Blue anodised aluminium (fixture jaws).
-pub const ANODISED_ALUMINIUM: Material = mat(0.3, 0.1, 0.25, [0.06, 0.16, 0.45]);
+pub const ANODISED_ALUMINIUM: Material = mat(0.3, 0.1, 0.25, [0.06, 0.16, 0.45], 0.0, 0.4);
 /// Enamelled copper windings.
-pub const COPPER: Material = mat(0.5, 0.5, 0.2, [0.66, 0.42, 0.26]);
+pub const COPPER: Material = mat(0.5, 0.5, 0.2, [0.66, 0.42, 0.26], 1.0, 0.3);
 /// Rusted steel: dark brown and matte.
-pub const RUST: Material = mat(0.15, 0.02, 0.5, [0.25, 0.11, 0.06]);
+pub const RUST: Material = mat(0.15, 0.02, 0.5, [0.25, 0.11, 0.06], 0.0, 0.9);
 /// Sintered ferrite magnets.
-pub const FERRITE: Material = mat(0.1, 0.0, 0.2, [0.1; 3]);
+pub const FERRITE: Material = mat(0.1, 0.0, 0.2, [0.1; 3], 0.0, 0.8);
 /// A light grey laminate table top.
-pub const LAMINATE: Material = mat(0.55, 0.0, 0.2, [0.55; 3]);
+pub const LAMINATE: Material = mat(0.55, 0.0, 0.2, [0.55; 3], 0.0, 0.6);
 /// Matte grey paint.
-pub const MATTE_GREY: Material = mat(0.5, 0.0, 0.2, [0.5; 3]);
+pub const MATTE_GREY: Material = mat(0.5, 0.0, 0.2, [0.5; 3], 0.0, 0.8);
 
 /// The named materials: the library `scan --mesh FILE@NAME` and [`Material::named`] draw on.
 pub const MATERIALS: [(&str, Material); 12] = [

@@ -20,8 +20,17 @@ pub struct Material {
     /// Width of the specular lobe, radians, 0 to π (small = mirror).
     pub lobe: f32,
     /// Diffuse colour: linear red, green and blue albedo 0..1, what the camera's colour image
-    /// sees (the signal reads `reflectivity`, at the projector's light).
+    /// sees (the signal reads `reflectivity`, at the projector's light), and the base colour
+    /// of the colour renderer's surface model.
     pub colour: [f32; 3],
+    /// Metalness 0..1 of the colour renderer's surface model (Blender's Principled BSDF):
+    /// 1 reflects only specularly, tinted by `colour`.
+    pub metallic: f32,
+    /// Microfacet roughness 0..1 of the specular reflection (α = roughness²).
+    pub roughness: f32,
+    /// Strength of a non-metal's specular reflection 0..1, Blender's "Specular IOR Level":
+    /// 0.5 reflects 4 % at normal incidence (index 1.5), 1 twice that.
+    pub ior_level: f32,
 }
 
 impl Default for Material {
@@ -31,6 +40,9 @@ impl Default for Material {
             specular: 0.0,
             lobe: 0.2,
             colour: [0.6; 3],
+            metallic: 0.0,
+            roughness: 0.5,
+            ior_level: 0.5,
         }
     }
 }

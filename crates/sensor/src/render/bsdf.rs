@@ -1,0 +1,328 @@
+//! The surface model of the colour renderer: Blender's Principled BSDF with its defaults (no
+//! coat, sheen, subsurface or transmission): a Lambertian base under a GGX specular layer,
+//! metals a GGX lobe tinted by their base colour, with the energy the single-scattering lobe
+//! loses restored (Turquin, "Practical multiple scattering compensation for microfacet
+//! models", 2019) as Cycles' multiscatter GGX restores it.
+
+use std::f32::consts::{FRAC_1_PI, PI};
+use std::sync::LazyLock;
+
+use glam::Vec3;
+
+use crate::world::Material;
+
+/// Roughness below this renders as this (α = roughness², a mirror is out of reach of sampling).
+const MIN_ALPHA: f32 = 1e-3;
+
+/// A local frame about a unit normal (Duff et al., "Building an orthonormal basis, revisited",
+/// JCGT 2017).
+#[derive(Clone, Copy)]
+pub(super) struct Frame {
+    t: Vec3,
+    b: Vec3,
+    pub(super) n: Vec3,
+}
+
+impl Frame {
+    pub(super) fn new(n: Vec3) -> Frame {
+        let sign = 1f32.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        Frame {
+            t: Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+            b: Vec3::new(b, sign + n.y * n.y * a, -n.y),
+            n,
+        }
+    }
+
+    fn to_local(self, v: Vec3) -> Vec3 {
+        Vec3::new(v.dot(self.t), v.dot(self.b), v.dot(self.n))
+    }
+
+    fn to_world(self, v: Vec3) -> Vec3 {
+        self.t * v.x + self.b * v.y + self.n * v.z
+    }
+}
+
+/// A material's reflection at one surface point, in the frame of its normal.
+#[derive(Clone, Copy)]
+pub(super) struct Bsdf {
+    frame: Frame,
+    alpha: f32,
+    /// Lambertian reflectance of the base (zero for metals).
+    diffuse: Vec3,
+    /// The specular lobe's reflectance at normal incidence.
+    f0: Vec3,
+    /// Probability of sampling the specular lobe.
+    p_specular: f32,
+}
+
+/// What a sampled direction carries: the direction, the BSDF × cosine / pdf, and the pdf.
+pub(super) struct Sampled {
+    pub(super) wi: Vec3,
+    pub(super) weight: Vec3,
+    pub(super) pdf: f32,
+}
+
+impl Bsdf {
+    /// The BSDF of `material` at a point of normal `n`, seen from direction `wo` (towards the
+    /// viewer); `None` when `wo` lies in the surface.
+    pub(super) fn new(material: &Material, n: Vec3, wo: Vec3) -> Option<Bsdf> {
+        let frame = Frame::new(n);
+        let mu = frame.to_local(wo).z;
+        if mu <= 1e-6 {
+            return None;
+        }
+        let base = Vec3::from(material.colour);
+        let metallic = material.metallic;
+        let roughness = material.roughness.clamp(0.0, 1.0);
+        let alpha = (roughness * roughness).max(MIN_ALPHA);
+        let f0_dielectric = (0.08 * material.ior_level).clamp(0.0, 1.0);
+        let f0 = Vec3::splat(f0_dielectric).lerp(base, metallic);
+        let layer = 1.0 - albedo(mu, roughness, f0_dielectric);
+        let diffuse = base * ((1.0 - metallic) * layer);
+        let specular = albedo(mu, roughness, luminance(f0));
+        let p_specular = if diffuse == Vec3::ZERO {
+            1.0
+        } else {
+            (specular / (specular + luminance(diffuse))).clamp(0.1, 0.9)
+        };
+        Some(Bsdf {
+            frame,
+            alpha,
+            diffuse,
+            f0,
+            p_specular,
+        })
+    }
+
+    /// BSDF × cosine towards `wi` and the pdf of sampling `wi`.
+    pub(super) fn eval(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
+        if i.z <= 0.0 || o.z <= 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let h = (o + i).normalize();
+        let (d, g1_o) = (ggx_d(h, self.alpha), ggx_g1(o, self.alpha));
+        let g2 = 1.0 / (1.0 + lambda(o, self.alpha) + lambda(i, self.alpha));
+        let fresnel = schlick(self.f0, o.dot(h));
+        let compensation = Vec3::ONE + self.f0 * (1.0 / energy(o.z, self.alpha) - 1.0);
+        let specular = fresnel * compensation * (d * g2 / (4.0 * o.z));
+        let diffuse = self.diffuse * (FRAC_1_PI * i.z);
+        let pdf_specular = g1_o * d / (4.0 * o.z);
+        let pdf = self.p_specular * pdf_specular + (1.0 - self.p_specular) * i.z * FRAC_1_PI;
+        (specular + diffuse, pdf)
+    }
+
+    /// Draws a direction from the BSDF with the uniform numbers `u`.
+    pub(super) fn sample(&self, wo: Vec3, u: [f32; 3]) -> Option<Sampled> {
+        let o = self.frame.to_local(wo);
+        let i = if u[0] < self.p_specular {
+            let h = sample_vndf(o, self.alpha, u[1], u[2]);
+            2.0 * o.dot(h) * h - o
+        } else {
+            cosine(u[1], u[2])
+        };
+        if i.z <= 0.0 {
+            return None;
+        }
+        let wi = self.frame.to_world(i);
+        let (f, pdf) = self.eval(wo, wi);
+        (pdf > 0.0).then(|| Sampled {
+            wi,
+            weight: f / pdf,
+            pdf,
+        })
+    }
+}
+
+/// Rec. 709 luminance of linear RGB.
+pub(super) fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+fn schlick(f0: Vec3, cos: f32) -> Vec3 {
+    let m = (1.0 - cos).clamp(0.0, 1.0);
+    let m5 = (m * m) * (m * m) * m;
+    f0 + (Vec3::ONE - f0) * m5
+}
+
+fn ggx_d(h: Vec3, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let c2 = h.z * h.z;
+    let k = c2 * (a2 - 1.0) + 1.0;
+    a2 / (PI * k * k)
+}
+
+/// Smith's Λ of the GGX distribution.
+fn lambda(v: Vec3, alpha: f32) -> f32 {
+    let c2 = v.z * v.z;
+    let tan2 = (1.0 - c2).max(0.0) / c2;
+    0.5 * ((1.0 + alpha * alpha * tan2).sqrt() - 1.0)
+}
+
+fn ggx_g1(v: Vec3, alpha: f32) -> f32 {
+    1.0 / (1.0 + lambda(v, alpha))
+}
+
+/// A normal drawn from GGX's distribution of visible normals (Dupuy and Benyoub, "Sampling
+/// visible GGX normals with spherical caps", 2023).
+fn sample_vndf(o: Vec3, alpha: f32, u1: f32, u2: f32) -> Vec3 {
+    let v = Vec3::new(alpha * o.x, alpha * o.y, o.z).normalize();
+    let phi = 2.0 * PI * u1;
+    let z = (1.0 - u2) * (1.0 + v.z) - v.z;
+    let s = (1.0 - z * z).max(0.0).sqrt();
+    let h = Vec3::new(s * phi.cos(), s * phi.sin(), z) + v;
+    Vec3::new(alpha * h.x, alpha * h.y, h.z.max(0.0)).normalize()
+}
+
+fn cosine(u1: f32, u2: f32) -> Vec3 {
+    let r = u1.sqrt();
+    let phi = 2.0 * PI * u2;
+    Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt())
+}
+
+/// Grid of the directional-albedo tables: cosine of the view angle × roughness.
+const GRID: usize = 32;
+
+/// The single-scattering GGX lobe's directional albedo at Fresnel 1 (`[0]`) and its Schlick
+/// term's share ∫(1 − cos θ_h)⁵ (`[1]`), on a grid of view cosine and roughness.
+static ALBEDO: LazyLock<Vec<[f32; 2]>> = LazyLock::new(|| {
+    const N: usize = 64;
+    let mut table = Vec::with_capacity(GRID * GRID);
+    for r in 0..GRID {
+        let roughness = r as f32 / (GRID - 1) as f32;
+        let alpha = (roughness * roughness).max(MIN_ALPHA);
+        for m in 0..GRID {
+            let mu = (m as f32 / (GRID - 1) as f32).max(1e-3);
+            let o = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+            let (mut e, mut e5) = (0.0f64, 0.0f64);
+            for a in 0..N {
+                for b in 0..N {
+                    let (u1, u2) = ((a as f32 + 0.5) / N as f32, (b as f32 + 0.5) / N as f32);
+                    let h = sample_vndf(o, alpha, u1, u2);
+                    let i = 2.0 * o.dot(h) * h - o;
+                    if i.z <= 0.0 {
+                        continue;
+                    }
+                    // BSDF × cos / pdf of the visible-normal sample: G2 / G1(o)
+                    let w = (1.0 + lambda(o, alpha)) / (1.0 + lambda(o, alpha) + lambda(i, alpha));
+                    let m5 = (1.0 - o.dot(h)).clamp(0.0, 1.0).powi(5);
+                    e += f64::from(w);
+                    e5 += f64::from(w * m5);
+                }
+            }
+            let n2 = (N * N) as f64;
+            table.push([(e / n2) as f32, (e5 / n2) as f32]);
+        }
+    }
+    table
+});
+
+/// The albedo tables bilinearly at view cosine `mu` and `roughness`.
+fn lookup(mu: f32, roughness: f32) -> [f32; 2] {
+    let scale = (GRID - 1) as f32;
+    let (x, y) = (
+        mu.clamp(0.0, 1.0) * scale,
+        roughness.clamp(0.0, 1.0) * scale,
+    );
+    let (x0, y0) = ((x as usize).min(GRID - 2), (y as usize).min(GRID - 2));
+    let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+    let at = |m: usize, r: usize| ALBEDO[r * GRID + m];
+    let mut out = [0.0; 2];
+    for (k, v) in out.iter_mut().enumerate() {
+        let row = |r| at(x0, r)[k] * (1.0 - fx) + at(x0 + 1, r)[k] * fx;
+        *v = row(y0) * (1.0 - fy) + row(y0 + 1) * fy;
+    }
+    out
+}
+
+/// The single-scattering lobe's directional albedo at Fresnel 1.
+fn energy(mu: f32, alpha: f32) -> f32 {
+    lookup(mu, alpha.sqrt())[0].max(1e-3)
+}
+
+/// Directional albedo, multiple scattering included, of a GGX lobe of `roughness` whose
+/// reflectance at normal incidence is `f0`, seen at view cosine `mu`.
+fn albedo(mu: f32, roughness: f32, f0: f32) -> f32 {
+    let [e, e5] = lookup(mu, roughness);
+    let single = f0 * (e - e5) + e5;
+    (single * (1.0 + f0 * (1.0 / e.max(1e-3) - 1.0))).min(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::noise::PixelRng;
+
+    fn material(colour: f32, metallic: f32, roughness: f32) -> Material {
+        Material {
+            colour: [colour; 3],
+            metallic,
+            roughness,
+            ..Material::default()
+        }
+    }
+
+    /// The directional albedo by sampling: the mean of the sampled weights.
+    fn sampled_albedo(m: &Material, mu: f32, n: u64) -> Vec3 {
+        let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+        let bsdf = Bsdf::new(m, Vec3::Z, wo).unwrap();
+        let mut sum = Vec3::ZERO;
+        for k in 0..n {
+            let rng = PixelRng::new(7, k);
+            let u = [rng.uniform(0), rng.uniform(1), rng.uniform(2)];
+            if let Some(s) = bsdf.sample(wo, u) {
+                sum += s.weight;
+            }
+        }
+        sum / n as f32
+    }
+
+    #[test]
+    fn a_white_metal_keeps_its_energy_at_every_roughness_and_angle() {
+        for roughness in [0.1, 0.4, 0.7, 1.0] {
+            for mu in [0.2, 0.5, 1.0] {
+                let a = sampled_albedo(&material(1.0, 1.0, roughness), mu, 20_000);
+                assert!(
+                    (a.x - 1.0).abs() < 0.04,
+                    "roughness {roughness} mu {mu}: {a}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_white_dielectric_reflects_no_more_than_it_receives() {
+        for roughness in [0.1, 0.5, 1.0] {
+            for mu in [0.1, 0.5, 1.0] {
+                let a = sampled_albedo(&material(1.0, 0.0, roughness), mu, 20_000);
+                assert!(
+                    a.x < 1.03 && a.x > 0.9,
+                    "roughness {roughness} mu {mu}: {a}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn sampling_and_evaluation_agree() {
+        // ∫ pdf dω = 1 over the hemisphere, by a uniform estimate, for a mixed material
+        let m = material(0.5, 0.4, 0.3);
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let bsdf = Bsdf::new(&m, Vec3::Z, wo).unwrap();
+        let n = 200_000;
+        let mut total = 0.0f64;
+        for k in 0..n {
+            let rng = PixelRng::new(3, k);
+            let (u1, u2) = (rng.uniform(0), rng.uniform(1));
+            let z = u1;
+            let r = (1.0 - z * z).sqrt();
+            let phi = 2.0 * PI * u2;
+            let wi = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+            total += f64::from(bsdf.eval(wo, wi).1) * 2.0 * std::f64::consts::PI;
+        }
+        let integral = total / n as f64;
+        assert!((integral - 1.0).abs() < 0.03, "∫pdf = {integral}");
+    }
+}

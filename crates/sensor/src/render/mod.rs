@@ -1,0 +1,274 @@
+//! A colour renderer on the scanner's BVH: unidirectional path tracing with the lights sampled
+//! at every surface point (point and rectangular lights, multiple importance sampling with the
+//! BSDF for the rectangles) and a uniform environment, Blender's Principled BSDF as the surface
+//! model ([`Material`]'s colour, metallic, roughness and specular level), flat shading, a box
+//! filter over each pixel. Every sample is a pure function of (seed, pixel, sample), so an image
+//! has the same bytes for any thread count; it is measured against Cycles in
+//! `docs/appearance.md`.
+//!
+//! [`Material`]: crate::Material
+
+mod bsdf;
+mod light;
+
+use glam::{Affine3A, Vec3};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::camera::Intrinsics;
+use crate::noise::PixelRng;
+use crate::world::World;
+use bsdf::Bsdf;
+use light::{Emitter, Incoming};
+pub use light::{Light, Lighting};
+
+/// How a frame is rendered.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Settings {
+    /// Paths per pixel, 1 to 65536.
+    pub samples: u32,
+    /// Surface interactions after the first that a path may have (0: direct light only),
+    /// 0 to 64.
+    pub bounces: u32,
+    /// Seed of the samples.
+    pub seed: u64,
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings {
+            samples: 64,
+            bounces: 4,
+            seed: 0,
+        }
+    }
+}
+
+impl Settings {
+    /// Checks the ranges.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] for samples outside 1 to 65536 or bounces above 64.
+    pub fn validate(&self) -> Result<(), Error> {
+        if !(1..=65536).contains(&self.samples) {
+            return Err(Error::Invalid {
+                key: "render.samples".into(),
+                value: self.samples.to_string(),
+                allowed: "1 to 65536 paths per pixel".into(),
+            });
+        }
+        if self.bounces > 64 {
+            return Err(Error::Invalid {
+                key: "render.bounces".into(),
+                value: self.bounces.to_string(),
+                allowed: "0 to 64".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A rendered frame: linear RGB radiance per pixel, rows from the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    /// Columns.
+    pub width: u32,
+    /// Rows.
+    pub height: u32,
+    /// Linear RGB per pixel, row-major.
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Image {
+    /// The frame as 8-bit sRGB (Blender's "Standard" view transform: no tone mapping, values
+    /// above 1 clipped), row-major RGB bytes.
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        self.pixels.iter().flatten().map(|&v| srgb8(v)).collect()
+    }
+}
+
+/// A linear value as 8-bit sRGB (IEC 61966-2-1), rounded.
+pub fn srgb8(linear: f32) -> u8 {
+    let v = linear.clamp(0.0, 1.0);
+    let e = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    (e * 255.0).round() as u8
+}
+
+/// Draws per path vertex: the BSDF's three and, per light, two.
+const DRAWS_PER_VERTEX: u64 = 16;
+/// Most lights a scene may have (each takes two draws of a vertex).
+pub const MAX_LIGHTS: usize = 6;
+/// Offset of a ray leaving a surface along its normal, metres.
+const EPSILON: f32 = 2e-5;
+
+/// Renders what a pinhole camera of `intrinsics` at camera-to-world `pose` (x right, y down,
+/// z forward) sees of `world` under `lighting`.
+///
+/// # Errors
+///
+/// [`Error::Invalid`] for settings, lighting or intrinsics out of range, or more than
+/// [`MAX_LIGHTS`] lights.
+///
+/// # Example
+///
+/// ```
+/// use glam::Vec3;
+/// use sensor::render::{Light, Lighting, Settings, render};
+/// use sensor::{Intrinsics, Material, Target, World, look_at, shapes};
+///
+/// let plane = shapes::rectangle(Vec3::ZERO, Vec3::X, Vec3::Y);
+/// let world = World::new(&[Target::from_triangles(&plane, 1, 1, Material::default())]);
+/// let lighting = Lighting {
+///     lights: vec![Light::Point { position: [0.0, 0.0, 1.0], power: 100.0, colour: [1.0; 3] }],
+///     environment: [0.0; 3],
+/// };
+/// let camera = Intrinsics::from_fov(32, 24, 40.0, 30.0);
+/// let pose = look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y).unwrap();
+/// let image = render(&world, &camera, &pose, &lighting, &Settings::default())?;
+/// assert!(image.pixels.iter().all(|p| p[0] > 0.0));
+/// # Ok::<(), sensor::Error>(())
+/// ```
+pub fn render(
+    world: &World,
+    intrinsics: &Intrinsics,
+    pose: &Affine3A,
+    lighting: &Lighting,
+    settings: &Settings,
+) -> Result<Image, Error> {
+    settings.validate()?;
+    lighting.validate()?;
+    intrinsics.validate()?;
+    if lighting.lights.len() > MAX_LIGHTS {
+        return Err(Error::Invalid {
+            key: "lights".into(),
+            value: lighting.lights.len().to_string(),
+            allowed: format!("at most {MAX_LIGHTS} lights"),
+        });
+    }
+    let scene = Scene {
+        world,
+        emitters: lighting.lights.iter().map(Emitter::new).collect(),
+        environment: Vec3::from(lighting.environment),
+        settings: *settings,
+    };
+    let (width, height) = (intrinsics.width as usize, intrinsics.height as usize);
+    let mut pixels = vec![[0.0f32; 3]; width * height];
+    pixels
+        .par_chunks_mut(width)
+        .enumerate()
+        .for_each(|(row, out)| {
+            for (col, px) in out.iter_mut().enumerate() {
+                let index = (row * width + col) as u64;
+                let mut sum = Vec3::ZERO;
+                for s in 0..settings.samples {
+                    let rng = PixelRng::new(settings.seed, index * 65536 + u64::from(s));
+                    let (u, v) = (
+                        col as f64 - 0.5 + f64::from(rng.uniform(0)),
+                        row as f64 - 0.5 + f64::from(rng.uniform(1)),
+                    );
+                    let dir = pose.transform_vector3(intrinsics.ray(u, v));
+                    sum += scene.path(pose.translation.into(), dir.normalize(), rng);
+                }
+                *px = (sum / settings.samples as f32).to_array();
+            }
+        });
+    Ok(Image {
+        width: intrinsics.width,
+        height: intrinsics.height,
+        pixels,
+    })
+}
+
+struct Scene<'a> {
+    world: &'a World,
+    emitters: Vec<Emitter>,
+    environment: Vec3,
+    settings: Settings,
+}
+
+impl Scene<'_> {
+    /// The radiance one path from `origin` along `dir` brings back.
+    fn path(&self, mut origin: Vec3, mut dir: Vec3, rng: PixelRng) -> Vec3 {
+        let mut radiance = Vec3::ZERO;
+        let mut throughput = Vec3::ONE;
+        // the pdf of the BSDF sample that chose `dir` (none for the camera's ray)
+        let mut bsdf_pdf: Option<f32> = None;
+        for vertex in 0..=u64::from(self.settings.bounces) {
+            let draws = 2 + vertex * DRAWS_PER_VERTEX;
+            let u = |k: u64| rng.uniform(draws + k);
+            let hit = self.world.cast(origin, dir, f32::INFINITY);
+            let t_max = hit.map_or(f32::INFINITY, |h| h.t);
+            if let Some((_, emitted, light_pdf)) = self
+                .emitters
+                .iter()
+                .filter_map(|e| e.hit(origin, dir, t_max))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+            {
+                let weight = bsdf_pdf.map_or(1.0, |p| power_heuristic(p, light_pdf));
+                radiance += throughput * emitted * weight;
+                break;
+            }
+            let Some(hit) = hit else {
+                radiance += throughput * self.environment;
+                break;
+            };
+            let x = origin + dir * hit.t;
+            let wo = -dir;
+            let Some(bsdf) = Bsdf::new(&hit.material, hit.normal, wo) else {
+                break;
+            };
+            let lift = x + hit.normal * EPSILON;
+            for (k, emitter) in self.emitters.iter().enumerate() {
+                let k = 3 + 2 * k as u64;
+                let Some(Incoming {
+                    wi,
+                    distance,
+                    value,
+                    pdf,
+                }) = emitter.sample(x, [u(k), u(k + 1)])
+                else {
+                    continue;
+                };
+                let (f, pdf_bsdf) = bsdf.eval(wo, wi);
+                if f == Vec3::ZERO || self.world.occluded(lift, wi, distance * (1.0 - 1e-4)) {
+                    continue;
+                }
+                radiance += if pdf == 0.0 {
+                    throughput * f * value
+                } else {
+                    throughput * f * value * (power_heuristic(pdf, pdf_bsdf) / pdf)
+                };
+            }
+            if vertex == u64::from(self.settings.bounces) {
+                break;
+            }
+            let Some(sampled) = bsdf.sample(wo, [u(0), u(1), u(2)]) else {
+                break;
+            };
+            throughput *= sampled.weight;
+            bsdf_pdf = Some(sampled.pdf);
+            origin = lift;
+            dir = sampled.wi;
+        }
+        radiance
+    }
+}
+
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2.is_infinite() {
+        1.0
+    } else {
+        a2 / (a2 + b2)
+    }
+}
+
+#[cfg(test)]
+mod tests;
