@@ -300,6 +300,7 @@ fn scan_of_a_motor_keeps_its_labels() {
         "labels.png",
         "instances.png",
         "intensity.png",
+        "rgb.png",
         "scan.json",
     ] {
         assert!(files.contains_key(f), "{f}");
@@ -613,7 +614,7 @@ fn scan_files_are_identical_for_one_and_two_threads() {
         files_below(&out)
     };
     let (one, two) = (scan_with("1"), scan_with("2"));
-    assert_eq!(one.len(), 11); // 3 clouds, 7 images, scan.json
+    assert_eq!(one.len(), 12); // 3 clouds, 8 images, scan.json
     assert!(one == two, "scan files differ between 1 and 2 threads");
 }
 

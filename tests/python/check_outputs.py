@@ -61,6 +61,11 @@ def main(scan_dir, motor_dir):
     valid = ~np.isnan(depth)
     check("depth png matches depth npy", png.shape == depth.shape and np.all(np.abs(png[valid] - depth[valid]) <= 0.51e-4))
     check("depth png zero where no data", np.all(png[~valid] == 0))
+    rgb_png = np.asarray(o3d.io.read_image(f"{scan_dir}/rgb.png"))
+    check("rgb png H x W x 3 uint8", rgb_png.shape == (h, w, 3) and rgb_png.dtype == np.uint8, rgb_png.shape)
+    # each point's colour is its pixel's: the cloud's colours are among the image's
+    image_colours = set(map(tuple, rgb_png.reshape(-1, 3)))
+    check("points' rgb come from the rgb png", all(tuple(c) in image_colours for c in rgb[:2000]))
     labels_png = np.asarray(o3d.io.read_image(f"{scan_dir}/labels.png"))
     check("label png holds the cloud's classes", set(np.unique(labels)) <= set(np.unique(labels_png).astype(float)))
 

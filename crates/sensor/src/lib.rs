@@ -62,7 +62,7 @@ pub use materials::MATERIALS;
 pub use noise::Noise;
 pub use scan::{Pixel, Region, Scan, Window, nearest_surface, scan, scan_reusing, scan_within};
 pub use spec::{
-    Calibration, CalibrationError, Model, PRESETS, Processing, Projector, Removal, Sampling,
-    SensorSpec,
+    Calibration, CalibrationError, ColourCamera, ColourCapture, Model, PRESETS, Processing,
+    Projector, Removal, Sampling, SensorSpec,
 };
 pub use world::{Classes, Material, Target, World};

@@ -114,3 +114,14 @@ pub fn write_intensity_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
         &data,
     )
 }
+
+/// The camera's colour image: 8-bit sRGB of every pixel, black where it sees no surface (see
+/// [`ColourCamera`](crate::ColourCamera)); a point's rgb is its pixel's.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_rgb_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
+    let data: Vec<u8> = scan.pixels.iter().flat_map(|p| p.rgb).collect();
+    png(w, scan, png::ColorType::Rgb, png::BitDepth::Eight, &data)
+}

@@ -15,7 +15,7 @@ use crate::scan::Scan;
 
 pub use image::{
     DEPTH_PNG_METRES_PER_UNIT, write_depth_png, write_intensity_png, write_label_png,
-    write_normal_png,
+    write_normal_png, write_rgb_png,
 };
 pub use npy::{write_depth_npy, write_npy_i32, write_npy_synmotor, write_npz};
 pub use pcd::write_pcd;
@@ -92,8 +92,8 @@ pub type ImageWriter = fn(&mut dyn Write, &Scan) -> Result<()>;
 
 /// The images of a scan, as (file-name suffix, writer): depth as 16-bit PNG
 /// ([`DEPTH_PNG_METRES_PER_UNIT`]) and float32 NPY (measured and clean), normals, labels,
-/// instances and intensity as PNG.
-pub const IMAGES: [(&str, ImageWriter); 7] = [
+/// instances, intensity and the colour image as PNG.
+pub const IMAGES: [(&str, ImageWriter); 8] = [
     ("depth.png", |w, s| write_depth_png(w, s, false)),
     ("depth.npy", |w, s| depth_npy(w, s, false)),
     ("depth_clean.npy", |w, s| depth_npy(w, s, true)),
@@ -101,6 +101,7 @@ pub const IMAGES: [(&str, ImageWriter); 7] = [
     ("labels.png", |w, s| write_label_png(w, s, false)),
     ("instances.png", |w, s| write_label_png(w, s, true)),
     ("intensity.png", write_intensity_png),
+    ("rgb.png", write_rgb_png),
 ];
 
 /// Writes `rows`, each appended to a buffer by `put(row, buffer)`, to `w` in blocks of about

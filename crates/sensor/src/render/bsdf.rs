@@ -17,7 +17,7 @@ const MIN_ALPHA: f32 = 1e-3;
 /// A local frame about a unit normal (Duff et al., "Building an orthonormal basis, revisited",
 /// JCGT 2017).
 #[derive(Clone, Copy)]
-pub(super) struct Frame {
+pub(crate) struct Frame {
     t: Vec3,
     b: Vec3,
     pub(super) n: Vec3,
@@ -44,17 +44,29 @@ impl Frame {
     }
 }
 
-/// A material's reflection at one surface point, in the frame of its normal.
+/// A material's reflection at one surface point towards one viewing direction.
 #[derive(Clone, Copy)]
-pub(super) struct Bsdf {
-    frame: Frame,
+pub(crate) struct Bsdf {
+    /// The unit normal and the direction towards the viewer.
+    n: Vec3,
+    wo: Vec3,
+    /// The cosine between them.
+    mu: f32,
     alpha: f32,
+    /// The single-scattering lobe's directional albedo towards the viewer at Fresnel 1, and its
+    /// Schlick term's share.
+    energy: [f32; 2],
+    /// Smith's Λ towards the viewer.
+    lambda_o: f32,
+    /// The factor restoring the energy single scattering loses, per channel.
+    compensation: Vec3,
     /// Lambertian reflectance of the base (zero for metals).
     diffuse: Vec3,
     /// The specular lobe's reflectance at normal incidence.
     f0: Vec3,
-    /// Probability of sampling the specular lobe.
-    p_specular: f32,
+    /// The share of a dielectric's Fresnel term kept (specular levels below 0.5 fade it out,
+    /// so that level 0 reflects nothing, as Blender's); metals keep theirs whole.
+    fade: f32,
 }
 
 /// What a sampled direction carries: the direction, the BSDF × cosine / pdf, and the pdf.
@@ -67,9 +79,8 @@ pub(super) struct Sampled {
 impl Bsdf {
     /// The BSDF of `material` at a point of normal `n`, seen from direction `wo` (towards the
     /// viewer); `None` when `wo` lies in the surface.
-    pub(super) fn new(material: &Material, n: Vec3, wo: Vec3) -> Option<Bsdf> {
-        let frame = Frame::new(n);
-        let mu = frame.to_local(wo).z;
+    pub(crate) fn new(material: &Material, n: Vec3, wo: Vec3) -> Option<Bsdf> {
+        let mu = n.dot(wo);
         if mu <= 1e-6 {
             return None;
         }
@@ -79,45 +90,85 @@ impl Bsdf {
         let alpha = (roughness * roughness).max(MIN_ALPHA);
         let f0_dielectric = (0.08 * material.ior_level).clamp(0.0, 1.0);
         let f0 = Vec3::splat(f0_dielectric).lerp(base, metallic);
-        let layer = 1.0 - albedo(mu, roughness, f0_dielectric);
+        let fade_dielectric = (2.0 * material.ior_level).clamp(0.0, 1.0);
+        let fade = fade_dielectric + (1.0 - fade_dielectric) * metallic;
+        let energy = lookup(mu, roughness);
+        let layer = 1.0 - fade_dielectric * albedo(energy, f0_dielectric);
         let diffuse = base * ((1.0 - metallic) * layer);
-        let specular = albedo(mu, roughness, luminance(f0));
-        let p_specular = if diffuse == Vec3::ZERO {
-            1.0
-        } else {
-            (specular / (specular + luminance(diffuse))).clamp(0.1, 0.9)
-        };
         Some(Bsdf {
-            frame,
+            n,
+            wo,
+            mu,
             alpha,
+            energy,
+            lambda_o: lambda(mu, alpha),
+            compensation: Vec3::ONE + f0 * (1.0 / energy[0].max(1e-3) - 1.0),
             diffuse,
             f0,
-            p_specular,
+            fade,
         })
     }
 
-    /// BSDF × cosine towards `wi` and the pdf of sampling `wi`.
-    pub(super) fn eval(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        let (o, i) = (self.frame.to_local(wo), self.frame.to_local(wi));
-        if i.z <= 0.0 || o.z <= 0.0 {
+    /// The probability of sampling the specular lobe: its share of the reflected light.
+    fn p_specular(&self) -> f32 {
+        if self.diffuse == Vec3::ZERO {
+            return 1.0;
+        }
+        let specular = self.fade * albedo(self.energy, luminance(self.f0));
+        if specular == 0.0 {
+            0.0
+        } else {
+            (specular / (specular + luminance(self.diffuse))).clamp(0.1, 0.9)
+        }
+    }
+
+    /// BSDF × cosine for light arriving from `wi` and the pdf of sampling `wi`.
+    pub(crate) fn eval(&self, wi: Vec3) -> (Vec3, f32) {
+        let cos_i = self.n.dot(wi);
+        if cos_i <= 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let h = (o + i).normalize();
-        let (d, g1_o) = (ggx_d(h, self.alpha), ggx_g1(o, self.alpha));
-        let g2 = 1.0 / (1.0 + lambda(o, self.alpha) + lambda(i, self.alpha));
-        let fresnel = schlick(self.f0, o.dot(h));
-        let compensation = Vec3::ONE + self.f0 * (1.0 / energy(o.z, self.alpha) - 1.0);
-        let specular = fresnel * compensation * (d * g2 / (4.0 * o.z));
-        let diffuse = self.diffuse * (FRAC_1_PI * i.z);
-        let pdf_specular = g1_o * d / (4.0 * o.z);
-        let pdf = self.p_specular * pdf_specular + (1.0 - self.p_specular) * i.z * FRAC_1_PI;
-        (specular + diffuse, pdf)
+        let (f, d) = self.reflect_cos(wi, cos_i);
+        let pdf_specular = d / ((1.0 + self.lambda_o) * 4.0 * self.mu);
+        let p = self.p_specular();
+        (f, p * pdf_specular + (1.0 - p) * cos_i * FRAC_1_PI)
+    }
+
+    /// BSDF × cosine for light arriving from `wi`.
+    #[inline]
+    pub(crate) fn reflect(&self, wi: Vec3) -> Vec3 {
+        let cos_i = self.n.dot(wi);
+        if cos_i <= 0.0 {
+            return Vec3::ZERO;
+        }
+        self.reflect_cos(wi, cos_i).0
+    }
+
+    /// BSDF × cosine for light from `wi` at cosine `cos_i` (positive) to the normal, and GGX's
+    /// D of the half vector.
+    #[inline]
+    fn reflect_cos(&self, wi: Vec3, cos_i: f32) -> (Vec3, f32) {
+        let h = (self.wo + wi).normalize();
+        let d = ggx_d(self.n.dot(h), self.alpha);
+        let g2 = 1.0 / (1.0 + self.lambda_o + lambda(cos_i, self.alpha));
+        let fresnel = schlick(self.f0, self.wo.dot(h)) * self.fade;
+        let specular = fresnel * self.compensation * (d * g2 / (4.0 * self.mu));
+        (specular + self.diffuse * (FRAC_1_PI * cos_i), d)
+    }
+
+    /// The share of uniform light from every direction of the hemisphere that the surface sends
+    /// towards the viewer, per channel (its directional albedo).
+    pub(crate) fn albedo(&self) -> Vec3 {
+        let [e, e5] = self.energy;
+        let single = self.f0 * (e - e5) + Vec3::splat(e5);
+        self.diffuse + (single * self.compensation).min(Vec3::ONE) * self.fade
     }
 
     /// Draws a direction from the BSDF with the uniform numbers `u`.
-    pub(super) fn sample(&self, wo: Vec3, u: [f32; 3]) -> Option<Sampled> {
-        let o = self.frame.to_local(wo);
-        let i = if u[0] < self.p_specular {
+    pub(super) fn sample(&self, u: [f32; 3]) -> Option<Sampled> {
+        let frame = Frame::new(self.n);
+        let o = frame.to_local(self.wo);
+        let i = if u[0] < self.p_specular() {
             let h = sample_vndf(o, self.alpha, u[1], u[2]);
             2.0 * o.dot(h) * h - o
         } else {
@@ -126,8 +177,8 @@ impl Bsdf {
         if i.z <= 0.0 {
             return None;
         }
-        let wi = self.frame.to_world(i);
-        let (f, pdf) = self.eval(wo, wi);
+        let wi = frame.to_world(i);
+        let (f, pdf) = self.eval(wi);
         (pdf > 0.0).then(|| Sampled {
             wi,
             weight: f / pdf,
@@ -137,7 +188,7 @@ impl Bsdf {
 }
 
 /// Rec. 709 luminance of linear RGB.
-pub(super) fn luminance(c: Vec3) -> f32 {
+pub(crate) fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
@@ -147,22 +198,19 @@ fn schlick(f0: Vec3, cos: f32) -> Vec3 {
     f0 + (Vec3::ONE - f0) * m5
 }
 
-fn ggx_d(h: Vec3, alpha: f32) -> f32 {
+/// GGX's distribution of normals at cosine `cos` to the surface normal.
+fn ggx_d(cos: f32, alpha: f32) -> f32 {
     let a2 = alpha * alpha;
-    let c2 = h.z * h.z;
+    let c2 = cos * cos;
     let k = c2 * (a2 - 1.0) + 1.0;
     a2 / (PI * k * k)
 }
 
-/// Smith's Λ of the GGX distribution.
-fn lambda(v: Vec3, alpha: f32) -> f32 {
-    let c2 = v.z * v.z;
+/// Smith's Λ of the GGX distribution for a direction at cosine `cos` to the normal.
+fn lambda(cos: f32, alpha: f32) -> f32 {
+    let c2 = cos * cos;
     let tan2 = (1.0 - c2).max(0.0) / c2;
     0.5 * ((1.0 + alpha * alpha * tan2).sqrt() - 1.0)
-}
-
-fn ggx_g1(v: Vec3, alpha: f32) -> f32 {
-    1.0 / (1.0 + lambda(v, alpha))
 }
 
 /// A normal drawn from GGX's distribution of visible normals (Dupuy and Benyoub, "Sampling
@@ -206,7 +254,8 @@ static ALBEDO: LazyLock<Vec<[f32; 2]>> = LazyLock::new(|| {
                         continue;
                     }
                     // BSDF × cos / pdf of the visible-normal sample: G2 / G1(o)
-                    let w = (1.0 + lambda(o, alpha)) / (1.0 + lambda(o, alpha) + lambda(i, alpha));
+                    let w = (1.0 + lambda(o.z, alpha))
+                        / (1.0 + lambda(o.z, alpha) + lambda(i.z, alpha));
                     let m5 = (1.0 - o.dot(h)).clamp(0.0, 1.0).powi(5);
                     e += f64::from(w);
                     e5 += f64::from(w * m5);
@@ -228,7 +277,8 @@ fn lookup(mu: f32, roughness: f32) -> [f32; 2] {
     );
     let (x0, y0) = ((x as usize).min(GRID - 2), (y as usize).min(GRID - 2));
     let (fx, fy) = (x - x0 as f32, y - y0 as f32);
-    let at = |m: usize, r: usize| ALBEDO[r * GRID + m];
+    let table = &*ALBEDO;
+    let at = |m: usize, r: usize| table[r * GRID + m];
     let mut out = [0.0; 2];
     for (k, v) in out.iter_mut().enumerate() {
         let row = |r| at(x0, r)[k] * (1.0 - fx) + at(x0 + 1, r)[k] * fx;
@@ -237,15 +287,10 @@ fn lookup(mu: f32, roughness: f32) -> [f32; 2] {
     out
 }
 
-/// The single-scattering lobe's directional albedo at Fresnel 1.
-fn energy(mu: f32, alpha: f32) -> f32 {
-    lookup(mu, alpha.sqrt())[0].max(1e-3)
-}
-
-/// Directional albedo, multiple scattering included, of a GGX lobe of `roughness` whose
-/// reflectance at normal incidence is `f0`, seen at view cosine `mu`.
-fn albedo(mu: f32, roughness: f32, f0: f32) -> f32 {
-    let [e, e5] = lookup(mu, roughness);
+/// Directional albedo, multiple scattering included, of a GGX lobe whose single-scattering
+/// albedo at Fresnel 1 and Schlick share are `[e, e5]` ([`lookup`]) and whose reflectance at
+/// normal incidence is `f0`.
+fn albedo([e, e5]: [f32; 2], f0: f32) -> f32 {
     let single = f0 * (e - e5) + e5;
     (single * (1.0 + f0 * (1.0 / e.max(1e-3) - 1.0))).min(1.0)
 }
@@ -272,7 +317,7 @@ mod tests {
         for k in 0..n {
             let rng = PixelRng::new(7, k);
             let u = [rng.uniform(0), rng.uniform(1), rng.uniform(2)];
-            if let Some(s) = bsdf.sample(wo, u) {
+            if let Some(s) = bsdf.sample(u) {
                 sum += s.weight;
             }
         }
@@ -306,6 +351,26 @@ mod tests {
     }
 
     #[test]
+    fn the_tabulated_albedo_is_the_sampled_one() {
+        for m in [
+            material(0.8, 0.0, 0.5),
+            material(0.3, 0.8, 0.4),
+            material(0.9, 0.9, 0.1),
+            material(0.0, 0.4, 0.7),
+        ] {
+            for mu in [0.3f32, 0.7, 1.0] {
+                let wo = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+                let table = Bsdf::new(&m, Vec3::Z, wo).unwrap().albedo();
+                let sampled = sampled_albedo(&m, mu, 40_000);
+                assert!(
+                    (table - sampled).abs().max_element() < 0.02,
+                    "{m:?} mu {mu}: {table} against {sampled}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn sampling_and_evaluation_agree() {
         // ∫ pdf dω = 1 over the hemisphere, by a uniform estimate, for a mixed material
         let m = material(0.5, 0.4, 0.3);
@@ -320,7 +385,7 @@ mod tests {
             let r = (1.0 - z * z).sqrt();
             let phi = 2.0 * PI * u2;
             let wi = Vec3::new(r * phi.cos(), r * phi.sin(), z);
-            total += f64::from(bsdf.eval(wo, wi).1) * 2.0 * std::f64::consts::PI;
+            total += f64::from(bsdf.eval(wi).1) * 2.0 * std::f64::consts::PI;
         }
         let integral = total / n as f64;
         assert!((integral - 1.0).abs() < 0.03, "∫pdf = {integral}");

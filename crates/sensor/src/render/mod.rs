@@ -8,7 +8,7 @@
 //!
 //! [`Material`]: crate::Material
 
-mod bsdf;
+pub(crate) mod bsdf;
 mod light;
 
 use glam::{Affine3A, Vec3};
@@ -236,7 +236,7 @@ impl Scene<'_> {
                 else {
                     continue;
                 };
-                let (f, pdf_bsdf) = bsdf.eval(wo, wi);
+                let (f, pdf_bsdf) = bsdf.eval(wi);
                 if f == Vec3::ZERO || self.world.occluded(lift, wi, distance * (1.0 - 1e-4)) {
                     continue;
                 }
@@ -249,7 +249,7 @@ impl Scene<'_> {
             if vertex == u64::from(self.settings.bounces) {
                 break;
             }
-            let Some(sampled) = bsdf.sample(wo, [u(0), u(1), u(2)]) else {
+            let Some(sampled) = bsdf.sample([u(0), u(1), u(2)]) else {
                 break;
             };
             throughput *= sampled.weight;

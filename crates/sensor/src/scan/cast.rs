@@ -7,6 +7,7 @@ use std::ops::Range;
 use glam::{Affine3A, DVec3, Mat3A, Vec3};
 
 use super::Pixel;
+use super::colour::Response;
 use super::decode::Stripes;
 use super::diffuse::Diffuse;
 use super::light::{LitPixel, acos, illuminate};
@@ -52,6 +53,8 @@ pub(super) struct Capture<'a> {
     pub(super) diffuse: Option<Diffuse>,
     /// The pixels cast: the window's columns in whole blocks, its rows in whole bands.
     pub(super) cast: Window,
+    /// The colour camera's response.
+    pub(super) colour: Response,
     /// The pixels an earlier scan may have left in the buffer (all others are empty).
     stale: Window,
     pub(super) path: Path,
@@ -123,6 +126,7 @@ impl<'a> Capture<'a> {
                 cols,
                 rows: band_rows,
             },
+            colour: Response::new(&sensor.colour),
             stale,
             path,
         }
@@ -217,7 +221,7 @@ impl<'a> Capture<'a> {
                 };
             }
             if self.projector.is_some() {
-                shade(epipolar, cut, lits, rays, self.sensor);
+                shade(self, epipolar, cut, lits, &mut line[cols.clone()], rays);
             }
             self.finish_row(&mut line[cols.clone()], lits, mirrors);
         }
@@ -316,7 +320,8 @@ impl<'a> Capture<'a> {
                 if blocked[g][lane] {
                     let (c, r) = block_pixel(col, g, lane);
                     let lit = &mut lits[r * span + c - cols.start];
-                    *lit = lit.and_then(|lit| lit.shadowed(self.sensor));
+                    let px = &mut out[r * width + c];
+                    *lit = lit.and_then(|lit| lit.in_shadow(self, px));
                 }
             }
         }
@@ -339,13 +344,14 @@ pub(super) struct Band {
 }
 
 /// Puts the lit pixels of a cut row whose surface point the projector does not reach in its
-/// shadow ([`LitPixel::shadowed`]).
+/// shadow ([`LitPixel::in_shadow`]); `line` holds their pixels.
 fn shade(
+    setup: &Capture,
     epipolar: &Epipolar,
     cut: &mut RowCut,
     lits: &mut [Option<LitPixel>],
+    line: &mut [Pixel],
     rays: &mut Vec<(usize, Ray)>,
-    sensor: &SensorSpec,
 ) {
     rays.clear();
     for (i, lit) in lits.iter().enumerate() {
@@ -360,7 +366,7 @@ fn shade(
     let shadows = epipolar.shadows(cut, rays.iter().map(|&(_, ray)| ray));
     for &(i, ray) in rays.iter() {
         if shadows.block(ray) {
-            lits[i] = lits[i].and_then(|lit| lit.shadowed(sensor));
+            lits[i] = lits[i].and_then(|lit| lit.in_shadow(setup, &mut line[i]));
         }
     }
 }

@@ -128,8 +128,8 @@ impl Stripes {
 /// own ray at the decoded column, with the SNR of that light, or none where that light
 /// saturates it, a filter removes it (the noise filter; the reflection filter where its
 /// patterns disagree) or the column's light plane
-/// meets the ray out of range. A pixel without a surface of its own takes the labels and colour
-/// of `strongest`, the surface whose light dominates. A pixel `pulled` by a step of brightness
+/// meets the ray out of range. A pixel without a surface of its own takes the labels of
+/// `strongest`, the surface whose light dominates. A pixel `pulled` by a step of brightness
 /// alone (a smooth surface) goes through Zivid's contrast-distortion filters.
 pub(super) fn decode(
     setup: &Capture,
@@ -221,7 +221,7 @@ pub(super) fn decode(
         return out;
     };
     // a point: the labels and normal of the pixel's own surface, or of the neighbour whose
-    // light dominates where it sees none; the colour of its own point, or that neighbour's
+    // light dominates where it sees none; the colour its own pixel records
     let seen = if own {
         *px
     } else {
@@ -235,7 +235,7 @@ pub(super) fn decode(
         point: dir * range,
         snr,
         intensity,
-        rgb: if px.is_valid() { px.rgb } else { strongest.rgb },
+        rgb: px.rgb,
         ..seen
     }
 }

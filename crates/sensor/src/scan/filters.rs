@@ -100,23 +100,20 @@ fn suppress_noise(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
 
 /// Gives each pixel the noise filter removed (lit, its SNR below the filter's threshold, not
 /// saturated) with points in at least 6 of its 8 neighbours a point on its own ray at their mean
-/// inverse depth, with their mean colour, if that lies in the working range.
+/// inverse depth, if that lies in the working range.
 fn repair_noise(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
     let (w, h) = (window.cols.len(), window.rows.len());
     let stride = scan.width as usize;
     let pixel = |r: usize, c: usize| (window.rows.start + r) * stride + window.cols.start + c;
-    let before: Vec<(f32, [u8; 3])> = (0..h)
+    let before: Vec<f32> = (0..h)
         .flat_map(|r| (0..w).map(move |c| (r, c)))
         .map(|(r, c)| {
             let p = &scan.pixels[pixel(r, c)];
-            (
-                if p.is_valid() {
-                    1.0 / p.point.z
-                } else {
-                    f32::NAN
-                },
-                p.rgb,
-            )
+            if p.is_valid() {
+                1.0 / p.point.z
+            } else {
+                f32::NAN
+            }
         })
         .collect();
     let removed = |p: &Pixel| {
@@ -139,14 +136,11 @@ fn repair_noise(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
                     .flat_map(|rr| reach(c, 1, w).map(move |cc| (rr, cc)))
                     .filter(|&(rr, cc)| (rr, cc) != (r, c))
                     .map(|(rr, cc)| before[rr * w + cc])
-                    .filter(|(inverse, _)| !inverse.is_nan());
-                let (mut n, mut inverse, mut rgb) = (0, 0.0, [0u32; 3]);
-                for (v, colour) in around {
+                    .filter(|inverse| !inverse.is_nan());
+                let (mut n, mut inverse) = (0, 0.0);
+                for v in around {
                     n += 1;
                     inverse += v;
-                    for (sum, channel) in rgb.iter_mut().zip(colour) {
-                        *sum += u32::from(channel);
-                    }
                 }
                 let z = n as f32 / inverse;
                 if n < 6 || !sensor.in_range(z) {
@@ -154,7 +148,6 @@ fn repair_noise(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
                 }
                 let dir = px.clean.normalize();
                 px.point = dir * (z / dir.z);
-                px.rgb = rgb.map(|sum| ((sum + n / 2) / n) as u8);
             }
         });
 }
@@ -179,7 +172,7 @@ fn remove_outliers(scan: &mut Scan, window: &Window, threshold: f32) {
 /// (along its row and column, within `widest` pixels) and on both sides along the row or the
 /// column: on its own ray at the inverse depth interpolated linearly between the two sides
 /// (the mean of the row's and the column's where both have two), with its own surface's labels
-/// (or the nearest side's where it sees none) and the nearest side's colour.
+/// (or the nearest side's where it sees none).
 fn repair_holes(
     scan: &mut Scan,
     window: &Window,
@@ -247,7 +240,6 @@ fn repair_holes(
                     pixel(i),
                     Pixel {
                         point: dir * (z / dir.z),
-                        rgb: near.rgb,
                         class: labels.class,
                         instance: labels.instance,
                         normal: labels.normal,

@@ -22,9 +22,10 @@ pub(super) struct LitPixel {
     pub(super) snr: f32,
     /// The projector's (or the camera's) light at the point, 0 in the projector's shadow.
     pub(super) light: f32,
-    /// The surface's diffuse reflectivity and its albedo (linear RGB).
+    /// The surface's diffuse reflectivity.
     pub(super) reflectivity: f32,
-    pub(super) albedo: Vec3,
+    /// The light the surface sends to the colour camera in the ambient light alone.
+    pub(super) ambient: Vec3,
     /// The surface's specular share and the width of its lobe, radians.
     pub(super) specular: f32,
     pub(super) lobe: f32,
@@ -35,11 +36,12 @@ pub(super) struct LitPixel {
 }
 
 impl LitPixel {
-    /// The point's linear colour before the camera's noise: its albedo under the light and the
-    /// ambient light.
+    /// This pixel, `px`, with its surface point in the projector's shadow: its colour in the
+    /// ambient light alone, and as [`LitPixel::shadowed`].
     #[inline]
-    pub(super) fn colour(&self, sensor: &SensorSpec) -> Vec3 {
-        self.albedo * (self.light * sensor.colour.exposure + sensor.colour.ambient)
+    pub(super) fn in_shadow(self, setup: &Capture, px: &mut Pixel) -> Option<LitPixel> {
+        px.rgb = setup.colour.record(self.ambient, self.rng);
+        self.shadowed(setup.sensor)
     }
 
     /// This pixel with its surface point in the projector's shadow: no light of its own, but a
@@ -93,25 +95,31 @@ pub(super) fn illuminate(
     // illumination of the surface point the pixel sees (jitter moves where it is measured, not
     // where the light falls): the projector, or the camera itself
     let surface = px.clean;
+    let material = hit.material;
+    let colour = |to_flash| setup.colour.light(&material, normal, -centre, to_flash);
     let ((light_dir, light_range), shadow) = match projector {
         Some((frustum, centre)) => {
-            if !frustum.lights(surface) {
-                return None;
-            }
             let to_light = *centre - surface;
             let distance = to_light.length();
             let l = to_light / distance;
-            if normal.dot(l) <= 0.0 {
-                return None; // self-shadowed: the surface faces away from the projector
+            // outside the projector's field or self-shadowed (the surface faces away from
+            // it): the ambient light alone
+            if !frustum.lights(surface) || normal.dot(l) <= 0.0 {
+                px.rgb = setup.colour.record(colour(None).ambient, rng);
+                return None;
             }
             ((l, distance), Some((surface, distance)))
         }
         None => ((-centre, hit.t), None),
     };
 
-    let material = hit.material;
+    let falloff = (sensor.reference_range / light_range).powi(2);
     let cos_light = normal.dot(light_dir).max(0.0);
-    let light = cos_light * (sensor.reference_range / light_range).powi(2);
+    let light = cos_light * falloff;
+    // the colour as lit; a pixel the projector's shadow turns out to cover records the ambient
+    // light alone ([`LitPixel::in_shadow`])
+    let seen = colour(Some((light_dir, falloff)));
+    px.rgb = setup.colour.record(seen.ambient + seen.flash, rng);
     // the diffuse reflection and the highlight about the mirror direction
     let highlight = if material.specular > 0.0 && noise.specular.saturation > 0.0 {
         let half = (light_dir - centre).normalize();
@@ -143,7 +151,7 @@ pub(super) fn illuminate(
         snr,
         light,
         reflectivity: material.reflectivity,
-        albedo: Vec3::from(material.colour),
+        ambient: seen.ambient,
         specular: material.specular,
         lobe: material.lobe,
         shadow,

@@ -1,5 +1,5 @@
 //! A lit pixel measured as a point: where it samples, the working range, range noise,
-//! disparity, bias, quantization and colour; and the effects of neighbours (mixed pixels, the
+//! disparity, bias and quantization; and the effects of neighbours (mixed pixels, the
 //! Kinect window).
 
 use std::ops::Range;
@@ -15,37 +15,6 @@ use super::mirror::{Mirrored, mirrored};
 use super::{Pixel, Scan, round};
 use crate::noise::{PixelRng, stream};
 use crate::spec::{Model, SensorSpec};
-
-/// A linear colour with noise of standard deviation `sigma` on each channel, as 8-bit sRGB.
-/// The noise of each channel is the sum of two uniform draws (a triangular distribution of that
-/// deviation), three channels from one 64-bit draw of the pixel's colour stream.
-#[inline]
-fn srgb(linear: Vec3, sigma: f32, rng: PixelRng) -> [u8; 3] {
-    let bits = rng.bits(stream::COLOUR);
-    let uniform = |k: u32| ((bits >> (10 * k)) & 0x3ff) as f32 * (1.0 / 1024.0);
-    let spread = sigma * 6f32.sqrt();
-    let value = |c: usize, v: f32| {
-        let noisy = v + spread * (uniform(2 * c as u32) + uniform(2 * c as u32 + 1) - 1.0);
-        SRGB[(noisy.clamp(0.0, 1.0) * (SRGB_STEPS - 1) as f32) as usize]
-    };
-    [value(0, linear.x), value(1, linear.y), value(2, linear.z)]
-}
-
-/// Steps of the linear-to-sRGB table.
-const SRGB_STEPS: usize = 4096;
-
-/// 8-bit sRGB of linear values k / (SRGB_STEPS - 1).
-static SRGB: std::sync::LazyLock<[u8; SRGB_STEPS]> = std::sync::LazyLock::new(|| {
-    std::array::from_fn(|k| {
-        let x = k as f64 / (SRGB_STEPS - 1) as f64;
-        let s = if x <= 0.003_130_8 {
-            12.92 * x
-        } else {
-            1.055 * x.powf(1.0 / 2.4) - 0.055
-        };
-        (s * 255.0).round() as u8
-    })
-});
 
 /// Measures labelled pixel `px` of a lit surface point, or of a shiny one in the projector's
 /// shadow: the light other surfaces send it (interreflection: what its mirror ray meets,
@@ -68,7 +37,6 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, mirror: Option<&Mirrored>
         rng,
         ..
     } = *lit;
-    let colour = lit.colour(sensor);
     (px.intensity, px.snr) = (signal, snr);
     // the light of other surfaces: the one a shiny surface mirrors, and the diffuse light of
     // those around it; the pixel decodes them and its own stripes together
@@ -90,12 +58,8 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, mirror: Option<&Mirrored>
                 sum.add(diffuse, lit.reflectivity);
             }
             let own = *px;
-            let coloured = Pixel {
-                rgb: srgb(colour, sensor.colour.noise, rng),
-                ..own
-            };
             let at = [col as usize, row as usize];
-            *px = decode(setup, stripes, &sum, at, &own, &coloured, false);
+            *px = decode(setup, stripes, &sum, at, &own, &own, false);
             return;
         }
     }
@@ -131,7 +95,6 @@ pub(super) fn measure(setup: &Capture, lit: &LitPixel, mirror: Option<&Mirrored>
     let Some(range) = noisy_range(setup, rng, [col, row], dir, range, snr, px.incidence) else {
         return;
     };
-    px.rgb = srgb(colour, sensor.colour.noise, rng);
     px.point = dir * range;
 }
 

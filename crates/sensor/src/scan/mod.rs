@@ -11,6 +11,7 @@
 //! point-cloud filters.
 
 mod cast;
+mod colour;
 mod decode;
 mod diffuse;
 mod filters;
@@ -52,7 +53,8 @@ pub struct Pixel {
     /// a shiny surface's highlight; 0 where the pixel's surface is not lit (a projector's
     /// shadow, or no surface).
     pub intensity: f32,
-    /// Colour as the camera's colour image records it, sRGB (black where there is no point).
+    /// Colour as the camera's colour image records it at this pixel, sRGB: the surface its
+    /// centre ray meets, with or without a point (black where it meets none).
     pub rgb: [u8; 3],
     /// Signal-to-noise ratio of the decoded pattern, 0 to 255 as Zivid's (0 where the pixel's
     /// surface is not lit, or the sensor has no SNR model).

@@ -1,5 +1,6 @@
 //! Scans of analytic scenes, one module a topic.
 
+mod colour;
 mod geometry;
 mod interreflection;
 mod kit;

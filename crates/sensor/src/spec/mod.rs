@@ -3,6 +3,9 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+mod colour;
+pub use colour::{ColourCamera, ColourCapture, PINK, blackbody};
+
 use crate::Error;
 use crate::camera::{Distortion, Intrinsics};
 use crate::noise::{
@@ -560,29 +563,20 @@ impl std::str::FromStr for Sampling {
     }
 }
 
-/// The camera's colour image, as each point's rgb: the surface's albedo × (the projector's
-/// light, as the signal has it without the reflectivity, × `exposure` + `ambient`), noise of
-/// standard deviation `noise` on each channel, then encoded as 8-bit sRGB.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct ColourCamera {
-    /// Linear value of a white surface facing the projector at the reference range, less the
-    /// ambient share.
-    pub exposure: f32,
-    /// Linear value of a white surface in the ambient light alone.
-    pub ambient: f32,
-    /// Standard deviation of the noise on each channel, linear units.
-    pub noise: f32,
-}
-
-impl Default for ColourCamera {
-    fn default() -> ColourCamera {
-        ColourCamera {
-            exposure: 0.7,
-            ambient: 0.15,
-            noise: 0.01,
+/// Checks that each (key, value, range, what the range allows) has its value in its range.
+fn within<'a>(
+    checks: impl IntoIterator<Item = (&'a str, f32, std::ops::RangeInclusive<f32>, &'a str)>,
+) -> Result<(), Error> {
+    for (key, value, range, allowed) in checks {
+        if !range.contains(&value) {
+            return Err(Error::Invalid {
+                key: key.into(),
+                value: value.to_string(),
+                allowed: allowed.into(),
+            });
         }
     }
+    Ok(())
 }
 
 /// The preset names.
@@ -755,7 +749,8 @@ impl SensorSpec {
     ///
     /// Sources and assumptions:
     /// - Zivid 2 and 2+ (M70, L100, M60, L110, M130 and the R line's MR60, LR110, MR130, which
-    ///   share the optics of M60, L110 and M130): Zivid's own simulation of its cameras,
+    ///   share the optics of M60, L110 and M130 and record a grey 2D image, Zivid's
+    ///   `Settings2D` colour sampling `grayscale`): Zivid's own simulation of its cameras,
     ///   `zivid/zivid-isaac-sim` (`camera/camera_calibration.py`, `resolution.py`): the
     ///   camera's focal length (M70 1785, L100 1784, M60 2481, L110 2479, M130 4028 px) with
     ///   the principal point at the image centre and no distortion; the projector
@@ -830,6 +825,13 @@ impl SensorSpec {
                 focus,
             )
         };
+        let monochrome = |s: SensorSpec| SensorSpec {
+            colour: ColourCamera {
+                monochrome: true,
+                ..s.colour
+            },
+            ..s
+        };
         let m60 = || zivid2(ZIVID_2PLUS, 2481.0, 111.2, 0.085, 233.0);
         let m130 = || zivid2(ZIVID_2PLUS, 4028.0, 111.9, 0.069, 351.0);
         let l110 = || zivid2(ZIVID_2PLUS, 2479.0, 111.6, 0.087, 232.0);
@@ -871,9 +873,13 @@ impl SensorSpec {
                 (0.6, 1.6),
                 1.0,
             ),
-            "zivid-2plus-m60" | "zivid-2plus-mr60" => zivid(m60(), (0.3, 1.1), 0.6),
-            "zivid-2plus-m130" | "zivid-2plus-mr130" => zivid(m130(), (0.8, 2.0), 1.3),
-            "zivid-2plus-l110" | "zivid-2plus-lr110" => zivid(l110(), (0.7, 1.7), 1.1),
+            "zivid-2plus-m60" => zivid(m60(), (0.3, 1.1), 0.6),
+            "zivid-2plus-m130" => zivid(m130(), (0.8, 2.0), 1.3),
+            "zivid-2plus-l110" => zivid(l110(), (0.7, 1.7), 1.1),
+            // the R line: the optics of M60, M130 and L110, a monochrome 2D imager
+            "zivid-2plus-mr60" => monochrome(zivid(m60(), (0.3, 1.1), 0.6)),
+            "zivid-2plus-mr130" => monochrome(zivid(m130(), (0.8, 2.0), 1.3)),
+            "zivid-2plus-lr110" => monochrome(zivid(l110(), (0.7, 1.7), 1.1)),
             "blensor-tof" => spec(
                 name,
                 Intrinsics::from_fov(1280, 960, 43.6, 34.6),
@@ -1039,6 +1045,7 @@ impl SensorSpec {
     pub fn validate(&self) -> Result<(), Error> {
         self.intrinsics.validate()?;
         self.noise.validate()?;
+        self.colour.validate()?;
         if !(self.min_range >= 0.0 && self.min_range < self.max_range && self.max_range.is_finite())
         {
             return Err(Error::Invalid {
@@ -1114,15 +1121,7 @@ impl SensorSpec {
                 "a blur of 0 to 10 pixels",
             ),
         ];
-        for (key, value, range, allowed) in thresholds {
-            if !range.contains(&value) {
-                return Err(Error::Invalid {
-                    key: key.into(),
-                    value: value.to_string(),
-                    allowed: allowed.into(),
-                });
-            }
-        }
+        within(thresholds)?;
         if self.noise.snr.is_on() && self.focal_baseline() == 0.0 {
             return Err(Error::Invalid {
                 key: "noise.snr.electrons".into(),
