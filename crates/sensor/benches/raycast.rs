@@ -8,7 +8,9 @@ use std::hint::black_box;
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
-use sensor::{Bvh, Scan, SensorSpec, Target, World, look_at, materials, scan, scan_reusing};
+use sensor::{
+    Bvh, ColourCapture, Scan, SensorSpec, Target, World, look_at, materials, scan, scan_reusing,
+};
 
 /// A sphere of radius 0.25 m on a 1 m square plane, each an n×n grid: about `triangles`.
 fn sphere_on_plane(triangles: usize) -> Vec<[Vec3; 3]> {
@@ -131,7 +133,7 @@ fn zivid_frame(c: &mut Criterion) {
     });
     // the same frame with one of the preset's error models off, and with none
     type Off = fn(&mut SensorSpec);
-    let variants: [(&str, Off); 8] = [
+    let variants: [(&str, Off); 9] = [
         ("without_snr", |s| s.noise.snr = Default::default()),
         ("without_correlation", |s| {
             s.noise.correlated = Default::default()
@@ -145,6 +147,9 @@ fn zivid_frame(c: &mut Criterion) {
         }),
         ("without_specular", |s| {
             s.noise.specular = Default::default()
+        }),
+        ("without_colour", |s| {
+            s.colour.capture = ColourCapture::ThreeD
         }),
         ("without_calibration_error", |s| {
             s.calibration = Default::default()

@@ -137,6 +137,13 @@ impl Bsdf {
     /// BSDF × cosine for light arriving from `wi`.
     #[inline]
     pub(crate) fn reflect(&self, wi: Vec3) -> Vec3 {
+        if wi == self.wo {
+            // light from the viewer (a camera's own light): the half vector is `wo` itself
+            let d = ggx_d(self.mu, self.alpha);
+            let g2 = 1.0 / (1.0 + 2.0 * self.lambda_o);
+            let specular = self.f0 * self.compensation * (self.fade * d * g2 / (4.0 * self.mu));
+            return specular + self.diffuse * (FRAC_1_PI * self.mu);
+        }
         let cos_i = self.n.dot(wi);
         if cos_i <= 0.0 {
             return Vec3::ZERO;
@@ -368,6 +375,20 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn light_from_the_viewer_reflects_as_from_any_direction() {
+        let m = material(0.6, 0.5, 0.3);
+        let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
+        let bsdf = Bsdf::new(&m, Vec3::Z, wo).unwrap();
+        let nudged = (wo + Vec3::new(1e-4, 0.0, 0.0)).normalize();
+        let (retro, near) = (bsdf.reflect(wo), bsdf.reflect(nudged));
+        assert!(
+            (retro - near).abs().max_element() < 1e-3 * near.max_element(),
+            "{retro} {near}"
+        );
+        assert!((retro - bsdf.eval(nudged).0).abs().max_element() < 1e-3 * near.max_element());
     }
 
     #[test]

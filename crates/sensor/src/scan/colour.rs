@@ -51,11 +51,16 @@ impl Response {
         wo: Vec3,
         to_flash: Option<(Vec3, f32)>,
     ) -> SurfaceLight {
+        let dark = SurfaceLight {
+            ambient: Vec3::ZERO,
+            flash: Vec3::ZERO,
+        };
+        // a 3D-only capture records no light
+        if self.camera.capture == ColourCapture::ThreeD {
+            return dark;
+        }
         let Some(bsdf) = Bsdf::new(material, n, wo) else {
-            return SurfaceLight {
-                ambient: Vec3::ZERO,
-                flash: Vec3::ZERO,
-            };
+            return dark;
         };
         let ambient = if self.ambient == Vec3::ZERO {
             Vec3::ZERO

@@ -59,9 +59,10 @@ impl LitPixel {
     }
 }
 
-/// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, and measures it up to the
-/// projector's visibility: the light at the surface point it sees, its signal and dropouts
-/// (which need no shadow test, so lost pixels have none); `None` when it can have no point.
+/// Labels pixel `px`, whose centre ray (camera frame) hit `hit`, records its colour, and
+/// measures it up to the projector's visibility: the light at the surface point it sees, its
+/// signal and dropouts (which need no shadow test, so lost pixels have none); `None` when it
+/// can have no point.
 #[inline(always)]
 pub(super) fn illuminate(
     setup: &Capture,
