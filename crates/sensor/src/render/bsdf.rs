@@ -17,14 +17,14 @@ const MIN_ALPHA: f32 = 1e-3;
 /// A local frame about a unit normal (Duff et al., "Building an orthonormal basis, revisited",
 /// JCGT 2017).
 #[derive(Clone, Copy)]
-pub(crate) struct Frame {
+struct Frame {
     t: Vec3,
     b: Vec3,
-    pub(super) n: Vec3,
+    n: Vec3,
 }
 
 impl Frame {
-    pub(super) fn new(n: Vec3) -> Frame {
+    fn new(n: Vec3) -> Frame {
         let sign = 1f32.copysign(n.z);
         let a = -1.0 / (sign + n.z);
         let b = n.x * n.y * a;
@@ -241,38 +241,18 @@ fn cosine(u1: f32, u2: f32) -> Vec3 {
 const GRID: usize = 32;
 
 /// The single-scattering GGX lobe's directional albedo at Fresnel 1 (`[0]`) and its Schlick
-/// term's share ∫(1 − cos θ_h)⁵ (`[1]`), on a grid of view cosine and roughness.
+/// term's share ∫(1 − cos θ_h)⁵ (`[1]`), on a grid of view cosine and roughness, each cell from
+/// 64×64 stratified visible-normal samples: computed once (the test
+/// `the_albedo_table_is_the_tabulated_one`, a tenth of a second) and kept in `albedo.bin`
+/// (little-endian f32 pairs, roughness-major).
 static ALBEDO: LazyLock<Vec<[f32; 2]>> = LazyLock::new(|| {
-    const N: usize = 64;
-    let mut table = Vec::with_capacity(GRID * GRID);
-    for r in 0..GRID {
-        let roughness = r as f32 / (GRID - 1) as f32;
-        let alpha = (roughness * roughness).max(MIN_ALPHA);
-        for m in 0..GRID {
-            let mu = (m as f32 / (GRID - 1) as f32).max(1e-3);
-            let o = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-            let (mut e, mut e5) = (0.0f64, 0.0f64);
-            for a in 0..N {
-                for b in 0..N {
-                    let (u1, u2) = ((a as f32 + 0.5) / N as f32, (b as f32 + 0.5) / N as f32);
-                    let h = sample_vndf(o, alpha, u1, u2);
-                    let i = 2.0 * o.dot(h) * h - o;
-                    if i.z <= 0.0 {
-                        continue;
-                    }
-                    // BSDF × cos / pdf of the visible-normal sample: G2 / G1(o)
-                    let w = (1.0 + lambda(o.z, alpha))
-                        / (1.0 + lambda(o.z, alpha) + lambda(i.z, alpha));
-                    let m5 = (1.0 - o.dot(h)).clamp(0.0, 1.0).powi(5);
-                    e += f64::from(w);
-                    e5 += f64::from(w * m5);
-                }
-            }
-            let n2 = (N * N) as f64;
-            table.push([(e / n2) as f32, (e5 / n2) as f32]);
-        }
-    }
-    table
+    include_bytes!("albedo.bin")
+        .chunks_exact(8)
+        .map(|c| {
+            let f = |k: usize| f32::from_le_bytes([c[k], c[k + 1], c[k + 2], c[k + 3]]);
+            [f(0), f(4)]
+        })
+        .collect()
 });
 
 /// The albedo tables bilinearly at view cosine `mu` and `roughness`.
@@ -354,6 +334,65 @@ mod tests {
                     "roughness {roughness} mu {mu}: {a}"
                 );
             }
+        }
+    }
+
+    /// Stratified visible-normal samples per side of a cell of `ALBEDO`.
+    const STRATA: usize = 64;
+
+    /// `ALBEDO`'s cells, each from `n`×`n` stratified visible-normal samples.
+    fn tabulate(n: usize) -> Vec<[f32; 2]> {
+        let mut table = Vec::with_capacity(GRID * GRID);
+        for r in 0..GRID {
+            let roughness = r as f32 / (GRID - 1) as f32;
+            let alpha = (roughness * roughness).max(MIN_ALPHA);
+            for m in 0..GRID {
+                let mu = (m as f32 / (GRID - 1) as f32).max(1e-3);
+                let o = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+                let (mut e, mut e5) = (0.0f64, 0.0f64);
+                for a in 0..n {
+                    for b in 0..n {
+                        let (u1, u2) = ((a as f32 + 0.5) / n as f32, (b as f32 + 0.5) / n as f32);
+                        let h = sample_vndf(o, alpha, u1, u2);
+                        let i = 2.0 * o.dot(h) * h - o;
+                        if i.z <= 0.0 {
+                            continue;
+                        }
+                        // BSDF × cos / pdf of the visible-normal sample: G2 / G1(o)
+                        let w = (1.0 + lambda(o.z, alpha))
+                            / (1.0 + lambda(o.z, alpha) + lambda(i.z, alpha));
+                        let m5 = (1.0 - o.dot(h)).clamp(0.0, 1.0).powi(5);
+                        e += f64::from(w);
+                        e5 += f64::from(w * m5);
+                    }
+                }
+                let n2 = (n * n) as f64;
+                table.push([(e / n2) as f32, (e5 / n2) as f32]);
+            }
+        }
+        table
+    }
+
+    /// `albedo.bin` is what `tabulate` computes (within the last bits libm's sine and cosine
+    /// may differ by between machines); `MOTORFACTORY_WRITE_ALBEDO=1` rewrites it.
+    #[test]
+    fn the_albedo_table_is_the_tabulated_one() {
+        let fresh = tabulate(STRATA);
+        if std::env::var_os("MOTORFACTORY_WRITE_ALBEDO").is_some() {
+            let bytes: Vec<u8> = fresh
+                .iter()
+                .flatten()
+                .flat_map(|v| v.to_le_bytes())
+                .collect();
+            let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/render/albedo.bin");
+            std::fs::write(path, bytes).unwrap();
+        }
+        assert_eq!(ALBEDO.len(), GRID * GRID);
+        for (k, (a, b)) in ALBEDO.iter().zip(&fresh).enumerate() {
+            assert!(
+                (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) < 1e-6,
+                "cell {k}: {a:?} against {b:?}"
+            );
         }
     }
 

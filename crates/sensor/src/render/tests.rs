@@ -115,8 +115,8 @@ fn a_lambertian_plane_under_a_point_light_is_albedo_over_pi_times_irradiance() {
     };
     let image = render(&world, &camera, &pose, &lighting, &settings).unwrap();
     for (col, row) in [(32, 32), (5, 40), (60, 3)] {
-        // the pixel's footprint varies the point, so compare with the exact value at its samples'
-        // mean by rendering one sample at the centre: check the pixel centre's analytic value
+        // the analytic radiance at the point the pixel's centre ray meets (its four samples
+        // spread over a footprint across which the radiance varies far less than the tolerance)
         let r = pose.transform_vector3(camera.ray(col as f64, row as f64));
         let p = Vec3::from(pose.translation) + r * (2.0 / -r.z);
         let d = Vec3::new(0.0, 0.0, height) - p;
@@ -131,8 +131,8 @@ fn a_lambertian_plane_under_a_point_light_is_albedo_over_pi_times_irradiance() {
 
 #[test]
 fn a_rectangle_light_gives_the_irradiance_of_its_form_factor() {
-    // a 0.2 m square of radiance L 0.5 m above a plane: E at the point below is
-    // L · 4 · (a/√(a²+h²) · atan(a/√(a²+h²))…) by the form factor of a square, here integrated
+    // a 0.2 m square of radiance L 0.5 m above a plane: the irradiance at the point below, by
+    // integrating over the square
     let (albedo, power, height, half) = (0.8, 10.0, 0.5f32, 0.1f32);
     let world = plane(lambert(albedo));
     let lighting = Lighting {
