@@ -114,6 +114,7 @@ impl CoverageCmd {
                 .collect(),
             class: s.parts.iter().map(|&k| scheme.id(k) as u16).collect(),
             instance: s.instances.clone(),
+            wear: vec![0.0; s.len()],
         };
         save("surface.ply", &|w| CloudFormat::Ply.write(w, &surface))?;
         save("first_view.npy", &|w| write_npy_i32(w, &first_view))?;

@@ -301,6 +301,7 @@ fn scan_of_a_motor_keeps_its_labels() {
         "instances.png",
         "intensity.png",
         "rgb.png",
+        "wear.png",
         "scan.json",
     ] {
         assert!(files.contains_key(f), "{f}");
@@ -343,10 +344,10 @@ fn scan_meshes_take_their_material_from_the_library() {
         let body = ply
             .split_at(ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11)
             .1;
-        // x y z nx ny nz intensity snr (float), rgb, class, instance: 41 bytes a point
-        let n = body.len() / 41;
+        // x y z nx ny nz intensity snr (float), rgb, class, instance, wear: 45 bytes a point
+        let n = body.len() / 45;
         let mean = |at: usize| {
-            body.chunks_exact(41)
+            body.chunks_exact(45)
                 .map(|r| f32::from_le_bytes(r[at..at + 4].try_into().unwrap()) as f64)
                 .sum::<f64>()
                 / n as f64
@@ -614,7 +615,7 @@ fn scan_files_are_identical_for_one_and_two_threads() {
         files_below(&out)
     };
     let (one, two) = (scan_with("1"), scan_with("2"));
-    assert_eq!(one.len(), 12); // 3 clouds, 8 images, scan.json
+    assert_eq!(one.len(), 13); // 3 clouds, 9 images, scan.json
     assert!(one == two, "scan files differ between 1 and 2 threads");
 }
 
@@ -838,6 +839,9 @@ fn messages_say_what_is_allowed_in_words_and_stay_short() {
         (set("motor=3"), "expected a table"),
         (set("motor.variants=\"A0\""), "expected a list"),
         (set("cell.clearance=[1]"), "expected a number"),
+        (set("cell.wear.pole_pot=[0, 2]"), "cell.wear.pole_pot"),
+        (set("cell.wear.rust=[0, 9]"), "rust types 1 to 9"),
+        (set("cell.wear.mask=\"patchy\""), "unknown variant"),
         (set("augment.clean.occluders=1"), "expected true or false"),
         (set("camera.distanse=1"), "did you mean `distance`?"),
         (set("output.formats=[\"plyy\"]"), "did you mean `ply`?"),

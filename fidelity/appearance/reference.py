@@ -89,19 +89,85 @@ def rect(c, a, b):
     return [tuple(map(tuple, (k[0], k[1], k[2]))), tuple(map(tuple, (k[0], k[2], k[3])))]
 
 
-def motor(case):
-    """The add-on's motor of `case` (cases.json) with its colour render on, in metres; returns
-    each mesh object with its part group."""
+def create_corrosion(self, obj, texture, corr_percent, part):
+    """The add-on's create_corrosion (utility.py), node for node and value for value, with the
+    inputs it numbers as Blender 2.90 did addressed by name: two Principled BSDFs, the part's and
+    a metallic one (roughness 0.774) coloured by the rust image, mixed by the mask texture
+    coordinate (object) -> noise (scale 0.5, detail 16, roughness 0.833) -> ramp (black at
+    percent / 250-400, white at 0.909) -> Voronoi (scale 2) colour -> ramp (white at 0.723,
+    black at 0.805). The bump node it wires at strength 0 is left out."""
+    mat = bpy.data.materials.new(name='Corrosion')
+    mat.use_nodes = True
+    obj.data.materials.append(mat)
+    obj.active_material = mat
+    nodes, link = mat.node_tree.nodes, mat.node_tree.links.new
+    p1, out = nodes['Principled BSDF'], nodes['Material Output']
+    table = self.Materia_Tables[part]
+    p1.inputs['Base Color'].default_value = table['diffuse_color']
+    p1.inputs['Metallic'].default_value = table['metallic']
+    p1.inputs['Roughness'].default_value = table['roughness']
+    p1.inputs['Specular IOR Level'].default_value = table['specular_intensity']
+    mix = nodes.new('ShaderNodeMixShader')
+    p2 = nodes.new('ShaderNodeBsdfPrincipled')
+    p2.inputs['Metallic'].default_value = 1
+    p2.inputs['Specular IOR Level'].default_value = 0.5
+    p2.inputs['Roughness'].default_value = 0.774
+    ramp1 = nodes.new('ShaderNodeValToRGB')
+    ramp1.name = 'mask'
+    ramp1.color_ramp.elements[1].position = 0.723
+    ramp1.color_ramp.elements[0].position = 0.805
+    voronoi = nodes.new('ShaderNodeTexVoronoi')
+    voronoi.inputs['Scale'].default_value = 2
+    ramp2 = nodes.new('ShaderNodeValToRGB')
+    ramp2.color_ramp.elements[1].position = 0.909
+    noise = nodes.new('ShaderNodeTexNoise')
+    noise.inputs['Scale'].default_value = 0.5
+    noise.inputs['Detail'].default_value = 16
+    noise.inputs['Roughness'].default_value = 0.833
+    mapping = nodes.new('ShaderNodeMapping')
+    coords = nodes.new('ShaderNodeTexCoord')
+    image = nodes.new('ShaderNodeTexImage')
+    image.image = bpy.data.images.load(self.Path_corrosion[texture])
+    link(mix.outputs[0], out.inputs['Surface'])
+    link(ramp1.outputs['Color'], mix.inputs['Fac'])
+    link(p1.outputs[0], mix.inputs[1])
+    link(p2.outputs[0], mix.inputs[2])
+    link(voronoi.outputs['Color'], ramp1.inputs['Fac'])
+    link(ramp2.outputs['Color'], voronoi.inputs['Vector'])
+    link(noise.outputs['Color'], ramp2.inputs['Fac'])
+    link(mapping.outputs['Vector'], noise.inputs['Vector'])
+    link(coords.outputs['Object'], mapping.inputs['Vector'])
+    link(image.outputs['Color'], p2.inputs['Base Color'])
+    if corr_percent < 50:
+        num = random.randrange(250, 280, 1)
+    elif 50 <= corr_percent <= 95:
+        num = random.randrange(300, 400, 1)
+    else:
+        num = random.randrange(280, 300, 1)
+    ramp2.color_ramp.elements[0].position = corr_percent / num
+    return mat
+
+
+def motor(case, corrosion=None):
+    """The add-on's motor of `case` (cases.json) with its colour render on, in metres, and its
+    corrosion (type and percent on the bolts and on the pole pot) or none; returns each mesh
+    object with its part group."""
     sys.path.insert(0, os.path.join(ORACLE, 'addon'))
     import add_mesh_BoltFactory
     import motor_factory
+    from motor_factory import utility
+    utility.Factory.create_corrosion = create_corrosion
     if not hasattr(bpy.ops.mesh, 'add_motor') or not hasattr(bpy.types, 'MESH_OT_add_motor'):
         add_mesh_BoltFactory.register()
         motor_factory.register()
     params = json.load(open(os.path.join(ORACLE, 'cases.json')))[case]
     params = {k: v for k, v in params.items() if k not in ('save_path', 'temp_save', 'test')}
-    params.update(mf_Color_Render=True, mf_Combine=False, mf_corrosion_Percent_Bolt=0.0,
-                  mf_corrosion_Percent_Bottom=0.0)
+    corrosion = corrosion or {}
+    params.update(mf_Color_Render=True, mf_Combine=False,
+                  mf_corrosion_Type_Bolt=corrosion.get('bolt_type', 'Rust 1'),
+                  mf_corrosion_Percent_Bolt=corrosion.get('bolt_percent', 0.0),
+                  mf_corrosion_Type_Bottom=corrosion.get('pole_pot_type', 'Rust 1'),
+                  mf_corrosion_Percent_Bottom=corrosion.get('pole_pot_percent', 0.0))
     os.environ.setdefault('MF_BOOL_SOLVER', 'FAST')
     save = tempfile.mkdtemp() + '/'
     random.seed(0)
@@ -126,7 +192,7 @@ def motor(case):
                     o.data.materials[k] = own
         # the add-on sets its table on the material's viewport values; Cycles reads the node
         for mat in o.data.materials:
-            if mat is None:
+            if mat is None or mat.name.startswith('Corrosion'):
                 continue
             p = mat.node_tree.nodes['Principled BSDF']
             p.inputs['Base Color'].default_value = tuple(mat.diffuse_color)
@@ -244,12 +310,64 @@ def parts_pass(objects, names, path):
     render(path)
 
 
+def patterns(spec, out):
+    """The add-on's corrosion mask and its stages on a plane z = 0 seen from above by an
+    orthographic camera, one sample at each pixel's centre, as 16-bit PNGs of the raw values:
+    out-noise.png (the colour of the mask's noise at 3 octaves), out-cells.png (the Voronoi's colour of the object
+    coordinates), out-voronoi.png (the Voronoi's colour of the ramped
+    noise) and out-mask.png (the mask), each pixel's centre at world (x, y) =
+    (x0 + (i + 1/2) s, y0 - (j + 1/2) s)."""
+    n, (x0, y0), size = spec['pixels'], spec['corner'], spec['size']
+    o = mesh('plane', rect((x0 + size / 2, y0 - size / 2, 0), (size / 2 + 1, 0, 0),
+                           (0, size / 2 + 1, 0)))
+    obj = type('Factory', (), {'Materia_Tables': {'Bit': {
+        'diffuse_color': (0.9, 0.9, 0.9, 1), 'metallic': 0.9, 'roughness': 0.1,
+        'specular_intensity': 0.7}}, 'Path_corrosion': {'Rust 1': os.path.join(
+            ORACLE, 'addon', 'motor_factory', 'materials', 'rust1.jpg')}})()
+    random.seed(0)
+    mat = create_corrosion(obj, o, 'Rust 1', spec['percent'], 'Bit')
+    nodes, link = mat.node_tree.nodes, mat.node_tree.links.new
+    print('threshold', nodes['Color Ramp'].color_ramp.elements[0].position)
+    cam = bpy.data.objects.new('camera', bpy.data.cameras.new('camera'))
+    bpy.context.scene.collection.objects.link(cam)
+    cam.data.type = 'ORTHO'
+    cam.data.ortho_scale = size
+    cam.location = (x0 + size / 2, y0 - size / 2, 5)
+    bpy.context.scene.camera = cam
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = n
+    scene.render.resolution_percentage = 100
+    settings(1, width=0.01)
+    scene.view_settings.view_transform = 'Raw'
+    scene.render.image_settings.color_depth = '16'
+    emission = nodes.new('ShaderNodeEmission')
+    link(emission.outputs[0], nodes['Material Output'].inputs['Surface'])
+    cells = nodes.new('ShaderNodeTexVoronoi')
+    cells.name = 'cells'
+    cells.inputs['Scale'].default_value = 2
+    link(nodes['Texture Coordinate'].outputs['Object'], cells.inputs['Vector'])
+    # the mask's noise at 3 octaves: its 16 would differ at the 1/200 pixel by which a sample
+    # may miss the pixel's centre
+    octaves = nodes.new('ShaderNodeTexNoise')
+    octaves.name = 'octaves'
+    for key, value in (('Scale', 0.5), ('Detail', 2), ('Roughness', 0.833)):
+        octaves.inputs[key].default_value = value
+    link(nodes['Texture Coordinate'].outputs['Object'], octaves.inputs['Vector'])
+    for name, node in (('noise', 'octaves'), ('cells', 'cells'),
+                       ('voronoi', 'Voronoi Texture'), ('mask', 'mask')):
+        link(nodes[node].outputs['Color'], emission.inputs['Color'])
+        render('%s-%s.png' % (out, name))
+
+
 def main():
     scenes = json.load(open(os.path.join(HERE, 'scenes.json')))
     names = sys.argv[1:] or list(scenes)
     for name in names:
         spec = scenes[name]
         clear()
+        if 'pattern' in spec:
+            patterns(spec['pattern'], os.path.join(HERE, 'reference', name))
+            continue
         objects = []
         if 'motor' in spec:
             objects = motor(spec['motor']['case'])

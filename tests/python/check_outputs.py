@@ -24,7 +24,7 @@ def main(scan_dir, motor_dir):
     check("npy colours in 0..1", table[:, 3:6].min() >= 0 and table[:, 3:6].max() <= 1)
 
     npz = np.load(f"{scan_dir}/cloud.npz")
-    check("npz arrays", sorted(npz.files) == ["instance", "intensity", "label", "normal", "rgb", "snr", "xyz"], npz.files)
+    check("npz arrays", sorted(npz.files) == ["instance", "intensity", "label", "normal", "rgb", "snr", "wear", "xyz"], npz.files)
     rgb = npz["rgb"]
     check("npz rgb N x 3 uint8", rgb.shape == (n, 3) and rgb.dtype == np.uint8, (rgb.shape, rgb.dtype))
     check("npy colours are the npz rgb", np.allclose(table[:, 3:6], rgb / 255.0, atol=1e-6))
@@ -44,6 +44,9 @@ def main(scan_dir, motor_dir):
     vertices = np.frombuffer(body, dtype=np.dtype([(name, kinds[kind]) for kind, name in props]), count=n)
     check("ply snr is the npz snr", np.array_equal(vertices["snr"], snr))
     check("ply intensity is the npz intensity", np.array_equal(vertices["intensity"], npz["intensity"]))
+    wear = npz["wear"]
+    check("npz wear float32 0..1", wear.dtype == np.float32 and wear.shape == (n,) and wear.min() >= 0 and wear.max() <= 1)
+    check("ply wear is the npz wear", np.array_equal(vertices["wear"], wear))
 
     for name in ["cloud.ply", "cloud.pcd", "cloud_ascii.pcd"]:
         pc = o3d.io.read_point_cloud(f"{scan_dir}/{name}")
@@ -66,6 +69,8 @@ def main(scan_dir, motor_dir):
     # each point's colour is its pixel's: the cloud's colours are among the image's
     image_colours = set(map(tuple, rgb_png.reshape(-1, 3)))
     check("points' rgb come from the rgb png", all(tuple(c) in image_colours for c in rgb[:2000]))
+    wear_png = np.asarray(o3d.io.read_image(f"{scan_dir}/wear.png"))
+    check("wear png H x W uint8", wear_png.shape == (h, w) and wear_png.dtype == np.uint8, wear_png.shape)
     labels_png = np.asarray(o3d.io.read_image(f"{scan_dir}/labels.png"))
     check("label png holds the cloud's classes", set(np.unique(labels)) <= set(np.unique(labels_png).astype(float)))
 

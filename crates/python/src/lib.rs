@@ -138,6 +138,7 @@ fn cloud_dict(py: Python<'_>, c: PointCloud) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("rgb", PyArray1::from_vec(py, rgb).reshape([n, 3])?)?;
     d.set_item("label", PyArray1::from_vec(py, c.class))?;
     d.set_item("instance", PyArray1::from_vec(py, c.instance))?;
+    d.set_item("wear", PyArray1::from_vec(py, c.wear))?;
     Ok(d)
 }
 

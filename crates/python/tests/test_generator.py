@@ -9,7 +9,7 @@ import pytest
 
 import motorfactory as mf
 
-ARRAYS = ["xyz", "normal", "intensity", "snr", "rgb", "label", "instance"]
+ARRAYS = ["xyz", "normal", "intensity", "snr", "rgb", "label", "instance", "wear"]
 
 
 @pytest.mark.parametrize("config", ["default", "synmotor"])

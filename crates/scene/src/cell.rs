@@ -10,9 +10,10 @@ use sensor::materials::{
     BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, MATTE_GREY, STAINLESS_STEEL,
     WHITE_PLASTIC, ZINC_PLATED_STEEL,
 };
+use sensor::wear::{Mask, Rust, Wear};
 use sensor::{Classes, Material, Target};
 
-use crate::config::{CellConfig, Clamping, Shift};
+use crate::config::{CellConfig, Clamping, Shift, WearConfig, WearMask};
 use crate::fixture::{Fixture, fixture};
 
 /// One object of the cell.
@@ -28,6 +29,8 @@ pub struct Object {
     pub mesh: Mesh,
     /// What the sensor's noise models read.
     pub material: Material,
+    /// Rust on it, if any.
+    pub wear: Option<Wear>,
 }
 
 impl Object {
@@ -39,8 +42,56 @@ impl Object {
             instance: p.instance,
             mesh: p.mesh.clone().transformed(to_world),
             material: material(p.kind),
+            wear: None,
         }
     }
+}
+
+/// Rust drawn for part `p` (motor frame to world `to_world`) by `config`, or none: the share
+/// from the part kind's span, a rust type, and the texture coordinates the add-on's object has
+/// (centimetres, millimetres on bolts, about the part's centre), shifted at random by up to 100
+/// units under a coverage mask, so that no two parts rust alike.
+fn draw_wear(
+    p: &Part,
+    to_world: &Affine3A,
+    config: &WearConfig,
+    rng: &mut impl Rng,
+) -> Option<Wear> {
+    let share = config.span(p.kind)?.sample(rng);
+    let rust = Rust::new(rng.random_range(config.rust[0]..=config.rust[1]))?;
+    let (mask, offset) = match config.mask {
+        WearMask::Coverage => {
+            let offset = Vec3::new(rng.random(), rng.random(), rng.random()) * 100.0;
+            (Mask::Coverage { share }, offset)
+        }
+        WearMask::Addon => {
+            // the add-on's divisor of the percent, by the percent
+            let percent = 100.0 * share;
+            let divisor = match percent {
+                p if p < 50.0 => rng.random_range(250..280),
+                p if p <= 95.0 => rng.random_range(300..400),
+                _ => rng.random_range(280..300),
+            };
+            let threshold = percent / divisor as f32;
+            (Mask::Addon { threshold }, Vec3::ZERO)
+        }
+    };
+    if share <= 0.0 {
+        return None;
+    }
+    let units = match p.kind {
+        PartKind::SideBolt | PartKind::CoverBolt => 1000.0,
+        _ => 100.0,
+    };
+    let texture = Affine3A::from_translation(offset)
+        * Affine3A::from_scale(Vec3::splat(units))
+        * Affine3A::from_translation(-p.mesh.bounds().centre())
+        * to_world.inverse();
+    Some(Wear {
+        texture,
+        mask,
+        rust,
+    })
 }
 
 /// A composed cell.
@@ -176,6 +227,12 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         .filter(|p| !hidden(p.kind))
         .map(|p| Object::part(p, &motor_to_world))
         .collect();
+    if config.wear.enabled() {
+        let parts = motor.parts.iter().filter(|p| !hidden(p.kind));
+        for (o, p) in objects.iter_mut().zip(parts) {
+            o.wear = draw_wear(p, &motor_to_world, &config.wear, rng);
+        }
+    }
 
     let grip = gripped(vary.clamping);
     let held = motor
@@ -207,6 +264,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
             instance: next,
             mesh,
             material,
+            wear: None,
         });
         next += 1;
     };
@@ -288,6 +346,7 @@ impl Cell {
                 classes: Classes::Uniform(o.part.map_or(0, |k| scheme.id(k)) as u16),
                 instance: o.instance,
                 material: o.material,
+                wear: o.wear,
             })
             .collect()
     }

@@ -133,6 +133,7 @@ fn motor_world(objects: &[Object]) -> World {
             classes: Classes::Uniform(0),
             instance: o.instance,
             material: o.material,
+            wear: o.wear,
         })
         .collect();
     World::new(&targets)
@@ -425,6 +426,7 @@ mod tests {
                 triangles,
             },
             material: materials::MATTE_GREY,
+            wear: None,
         }
     }
 

@@ -104,6 +104,7 @@ fn targets(spec: &Spec) -> Vec<(Target, u32)> {
                 classes: Classes::Uniform(1),
                 instance: 1000 + part.instance,
                 material: scene::cell::material(part.kind),
+                wear: None,
             };
             out.push((target, number + 1));
         }
@@ -296,8 +297,13 @@ fn compare(name: &str, spec: &Spec) -> Row {
 #[test]
 fn the_renderer_stands_beside_cycles() {
     let text = std::fs::read_to_string(fidelity().join("scenes.json")).unwrap();
-    let scenes: BTreeMap<String, Spec> = serde_json::from_str(&text).unwrap();
-    let rows: Vec<Row> = scenes.iter().map(|(n, s)| compare(n, s)).collect();
+    // every scene but the pattern (the wear masks' own test, sensor::wear)
+    let scenes: BTreeMap<String, serde_json::Value> = serde_json::from_str(&text).unwrap();
+    let rows: Vec<Row> = scenes
+        .into_iter()
+        .filter(|(_, s)| s.get("pattern").is_none())
+        .map(|(n, s)| compare(&n, &serde_json::from_value(s).unwrap()))
+        .collect();
     println!("| scene | SSIM | part | pixels | ΔE2000 |\n|---|---|---|---|---|");
     for r in &rows {
         for (k, (part, n, de)) in r.parts.iter().enumerate() {

@@ -443,3 +443,37 @@ fn colour_does_not_give_the_label_away() {
         "colour tells container from cover {accuracy}"
     );
 }
+
+/// Rust drawn per sample: the bolts and the pole pot carry it in the cloud's wear channel, no
+/// other part does, and the same seed draws the same rust.
+#[test]
+fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
+    let mut table = scene::config::builtin_table("default").unwrap();
+    let span = toml::Value::Array(vec![0.3.into(), 0.6.into()]);
+    scene::set_key(&mut table, "cell.wear.bolts", span.clone()).unwrap();
+    scene::set_key(&mut table, "cell.wear.pole_pot", span).unwrap();
+    scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
+    let config = Config::from_table(&table).unwrap();
+    let scheme = config.output.scheme;
+    let recipe = Recipe::new(config, Vec::new()).unwrap();
+    let rusting =
+        [PartKind::PolePot, PartKind::SideBolt, PartKind::CoverBolt].map(|k| scheme.id(k) as u16);
+    let sample = scene::make(&recipe, 1).unwrap();
+    let cloud = &sample.views[0].cloud;
+    let worn = |f: &dyn Fn(u16) -> bool| {
+        let w: Vec<f32> = cloud
+            .class
+            .iter()
+            .zip(&cloud.wear)
+            .filter(|(c, _)| f(**c))
+            .map(|(_, w)| *w)
+            .collect();
+        w.iter().sum::<f32>() / w.len().max(1) as f32
+    };
+    let on_pot = worn(&|c| c == rusting[0]);
+    assert!((0.15..0.75).contains(&on_pot), "pole pot {on_pot}");
+    assert_eq!(worn(&|c| !rusting.contains(&c)), 0.0);
+    let again = scene::make(&recipe, 1).unwrap();
+    assert_eq!(again.views[0].cloud.wear, cloud.wear);
+    assert_eq!(again.views[0].cloud.rgb, cloud.rgb);
+}

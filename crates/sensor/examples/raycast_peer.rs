@@ -28,6 +28,7 @@ fn main() {
         classes: Classes::Uniform(1),
         instance: 1,
         material: Material::default(),
+        wear: None,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -70,11 +71,11 @@ fn main() {
                                 })
                             });
                             let hits = world.bvh().cast_packet(&origins, &dirs, &t_max);
-                            let dirs = dirs.iter().flatten();
-                            for ((slot, h), &d) in
-                                slots.iter_mut().zip(hits.iter().flatten()).zip(dirs)
+                            let rays = origins.iter().flatten().zip(dirs.iter().flatten());
+                            for ((slot, h), (&o, &d)) in
+                                slots.iter_mut().zip(hits.iter().flatten()).zip(rays)
                             {
-                                *slot = match h.map(|h| world.surface(&h, d)) {
+                                *slot = match h.map(|h| world.surface(&h, o, d)) {
                                     Some(h) => {
                                         [h.t, h.triangle as f32, h.normal.x, h.normal.y, h.normal.z]
                                     }

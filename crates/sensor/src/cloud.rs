@@ -68,6 +68,8 @@ pub struct PointCloud {
     pub class: Vec<u16>,
     /// Instance id.
     pub instance: Vec<u32>,
+    /// Share of rust under the point, 0..1.
+    pub wear: Vec<f32>,
 }
 
 impl PointCloud {
@@ -149,6 +151,7 @@ impl PointCloud {
             snr: column(n, 0.0),
             class: column(n, 0),
             instance: column(n, 0),
+            wear: column(n, 0.0),
         }
     }
 }
@@ -162,6 +165,7 @@ struct Columns<'a> {
     snr: &'a mut [f32],
     class: &'a mut [u16],
     instance: &'a mut [u32],
+    wear: &'a mut [f32],
 }
 
 impl<'a> Columns<'a> {
@@ -174,6 +178,7 @@ impl<'a> Columns<'a> {
             snr: &mut c.snr,
             class: &mut c.class,
             instance: &mut c.instance,
+            wear: &mut c.wear,
         }
     }
 
@@ -186,6 +191,7 @@ impl<'a> Columns<'a> {
         let (snr, snr_rest) = self.snr.split_at_mut(n);
         let (class, class_rest) = self.class.split_at_mut(n);
         let (instance, instance_rest) = self.instance.split_at_mut(n);
+        let (wear, wear_rest) = self.wear.split_at_mut(n);
         (
             Columns {
                 xyz,
@@ -195,6 +201,7 @@ impl<'a> Columns<'a> {
                 snr,
                 class,
                 instance,
+                wear,
             },
             Columns {
                 xyz: xyz_rest,
@@ -204,6 +211,7 @@ impl<'a> Columns<'a> {
                 snr: snr_rest,
                 class: class_rest,
                 instance: instance_rest,
+                wear: wear_rest,
             },
         )
     }
@@ -218,5 +226,6 @@ impl<'a> Columns<'a> {
         self.snr[k] = p.snr;
         self.class[k] = p.class;
         self.instance[k] = p.instance;
+        self.wear[k] = p.wear;
     }
 }

@@ -26,6 +26,7 @@
 //!     classes: sensor::Classes::Uniform(3),
 //!     instance: 1,
 //!     material: Material::default(),
+//!     wear: None,
 //! };
 //! let world = World::new(&[target]);
 //! let mut zivid = SensorSpec::preset("zivid-2plus-m130")?.binned(4); // Zivid's by4x4
@@ -52,6 +53,7 @@ pub mod render;
 pub mod scan;
 pub mod shapes;
 pub mod spec;
+pub mod wear;
 pub mod world;
 
 pub use bvh::{Bvh, Hit};

@@ -167,6 +167,7 @@ fn target(
         classes,
         instance,
         material: Material::default(),
+        wear: None,
     }
 }
 

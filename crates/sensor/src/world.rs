@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::bvh::{Bvh, Hit};
 use crate::camera::Intrinsics;
 use crate::epipolar::Epipolar;
+use crate::wear::Wear;
 
 /// How a surface returns light, as the noise models read it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -60,6 +61,8 @@ pub struct Target {
     pub instance: u32,
     /// Surface material.
     pub material: Material,
+    /// Corrosion on the surface, if any.
+    pub wear: Option<Wear>,
 }
 
 impl Target {
@@ -78,6 +81,7 @@ impl Target {
             classes: Classes::Uniform(class),
             instance,
             material,
+            wear: None,
         }
     }
 }
@@ -115,6 +119,7 @@ struct Surface {
     instance: u32,
     material: Material,
     lobe_sharpness: f32,
+    wear: Option<Wear>,
 }
 
 /// A ray's hit with everything the sensor models need.
@@ -135,6 +140,8 @@ pub struct SurfaceHit {
     /// Sharpness of the material's specular lobe, 1 / lobe² (see
     /// [`Specular`](crate::noise::Specular)).
     pub lobe_sharpness: f32,
+    /// Share of rust at the hit, 0..1 (the material is the surface's worn by it).
+    pub wear: f32,
 }
 
 impl World {
@@ -167,7 +174,8 @@ impl World {
                 .map(|t| Surface {
                     instance: t.instance,
                     material: t.material,
-                    lobe_sharpness: 1.0 / (t.material.lobe * t.material.lobe).max(1e-6),
+                    lobe_sharpness: lobe_sharpness(&t.material),
+                    wear: t.wear,
                 })
                 .collect(),
         }
@@ -183,14 +191,14 @@ impl World {
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<SurfaceHit> {
         self.bvh
             .cast(origin, dir, t_max)
-            .map(|h| self.describe(h.t, h.triangle, dir))
+            .map(|h| self.describe(h.t, h.triangle, origin, dir))
     }
 
-    /// What a ray in direction `dir` finds at `hit` (a hit of [`World::bvh`]'s casts): the
-    /// surface's normal facing the ray, its class, instance and material.
+    /// What a ray from `origin` in direction `dir` finds at `hit` (a hit of [`World::bvh`]'s
+    /// casts): the surface's normal facing the ray, its class, instance and material.
     #[inline]
-    pub fn surface(&self, hit: &Hit, dir: Vec3) -> SurfaceHit {
-        self.describe(hit.t, hit.triangle, dir)
+    pub fn surface(&self, hit: &Hit, origin: Vec3, dir: Vec3) -> SurfaceHit {
+        self.describe(hit.t, hit.triangle, origin, dir)
     }
 
     /// The BVH over every target's triangles, for casting packets of rays
@@ -219,12 +227,13 @@ impl World {
         Epipolar::new(self.bvh.slots(), pose, k, baseline, rows, max_depth)
     }
 
-    /// The hit at distance `t` along unit ray `dir` on the triangle in BVH slot `slot`.
-    pub(crate) fn describe_slot(&self, slot: u32, t: f32, dir: Vec3) -> SurfaceHit {
-        self.describe(t, self.bvh.triangle(slot), dir)
+    /// The hit at distance `t` along unit ray `dir` from `origin` on the triangle in BVH slot
+    /// `slot`.
+    pub(crate) fn describe_slot(&self, slot: u32, t: f32, origin: Vec3, dir: Vec3) -> SurfaceHit {
+        self.describe(t, self.bvh.triangle(slot), origin, dir)
     }
 
-    fn describe(&self, t: f32, triangle: u32, dir: Vec3) -> SurfaceHit {
+    fn describe(&self, t: f32, triangle: u32, origin: Vec3, dir: Vec3) -> SurfaceHit {
         let info = self.tris[triangle as usize];
         let surface = self.surfaces[info.target as usize];
         let normal = if info.normal.dot(dir) > 0.0 {
@@ -232,7 +241,7 @@ impl World {
         } else {
             info.normal
         };
-        SurfaceHit {
+        let mut hit = SurfaceHit {
             t,
             triangle,
             normal,
@@ -240,6 +249,20 @@ impl World {
             instance: surface.instance,
             material: surface.material,
             lobe_sharpness: surface.lobe_sharpness,
+            wear: 0.0,
+        };
+        if let Some(wear) = &surface.wear
+            && let Some((share, material)) = wear.at(&surface.material, origin + t * dir)
+        {
+            hit.wear = share;
+            hit.material = material;
+            hit.lobe_sharpness = lobe_sharpness(&material);
         }
+        hit
     }
+}
+
+/// Sharpness of a material's specular lobe, 1 / lobe².
+fn lobe_sharpness(m: &Material) -> f32 {
+    1.0 / (m.lobe * m.lobe).max(1e-6)
 }

@@ -74,6 +74,21 @@ impl Config {
                 "0 to 90 degrees",
             ));
         }
+        let w = &c.wear;
+        for (key, s) in [
+            ("cell.wear.bolts", &w.bolts),
+            ("cell.wear.pole_pot", &w.pole_pot),
+            ("cell.wear.electric_connection", &w.electric_connection),
+        ] {
+            s.check(key, 0.0, 1.0)?;
+        }
+        if !(1 <= w.rust[0] && w.rust[0] <= w.rust[1] && w.rust[1] <= 9) {
+            return Err(Error::invalid(
+                "cell.wear.rust",
+                format!("{:?}", w.rust),
+                "[first, last] of the rust types 1 to 9, first <= last",
+            ));
+        }
         self.check_camera()?;
         self.sensor.resolve()?;
         let k = &self.crop;

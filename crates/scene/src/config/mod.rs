@@ -7,7 +7,7 @@ mod sweep;
 mod table;
 mod words;
 
-use motorgen::{Detail, ParamSpace, Scheme};
+use motorgen::{Detail, ParamSpace, PartKind, Scheme};
 use rand::{Rng, RngExt};
 use sensor::formats::CloudFormat;
 use sensor::{Frame, Noise, Sampling, SensorSpec, Units};
@@ -182,6 +182,53 @@ pub struct OccluderConfig {
     pub tilt_deg: f32,
 }
 
+/// `[cell.wear]`: rust on the motor's metal parts, drawn per sample (each part its own share,
+/// rust type and pattern).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WearConfig {
+    /// How the rust is laid out: `coverage` (the drawn share of the part's surface) or `addon`
+    /// (the add-on's mask, the share as its percent / 100).
+    pub mask: WearMask,
+    /// The add-on's rust textures drawn from, [first, last] of 1 to 9.
+    pub rust: [u8; 2],
+    /// Share of each bolt's surface rusted, 0..1.
+    pub bolts: Span,
+    /// Share of the pole pot's surface rusted, 0..1.
+    pub pole_pot: Span,
+    /// Share of the electric connection's surface rusted, 0..1.
+    pub electric_connection: Span,
+}
+
+impl WearConfig {
+    /// Whether any part may rust.
+    pub fn enabled(&self) -> bool {
+        [self.bolts, self.pole_pot, self.electric_connection]
+            .iter()
+            .any(|s| s.max > 0.0)
+    }
+
+    /// The share drawn for parts of `kind`, if they may rust.
+    pub fn span(&self, kind: PartKind) -> Option<Span> {
+        match kind {
+            PartKind::SideBolt | PartKind::CoverBolt => Some(self.bolts),
+            PartKind::PolePot => Some(self.pole_pot),
+            PartKind::ElectricConnection => Some(self.electric_connection),
+            _ => None,
+        }
+    }
+}
+
+/// How rust is laid out over a part.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WearMask {
+    /// The drawn share of the surface rusts, in patches of a fractal noise.
+    Coverage,
+    /// The add-on's mask (noise, Voronoi, ramps) at percent = share × 100.
+    Addon,
+}
+
 /// How the motor is clamped: the inspection station's two setups, each hiding what the other
 /// shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -225,6 +272,8 @@ pub struct CellConfig {
     pub fixture: FixtureConfig,
     /// Occluding panels.
     pub occluders: OccluderConfig,
+    /// Corrosion.
+    pub wear: WearConfig,
 }
 
 /// How camera poses are chosen.

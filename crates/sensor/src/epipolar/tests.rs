@@ -77,7 +77,7 @@ fn compare_hits(tris: &[[Vec3; 3]], k: &Intrinsics, pose: &Affine3A) -> (usize, 
         for (c, got) in got.iter().enumerate() {
             let dir = pose.transform_vector3(k.ray(c as f64, r as f64));
             let want = world.cast(origin, dir, 50.0);
-            let got = got.map(|(slot, t)| world.describe_slot(slot, t, dir));
+            let got = got.map(|(slot, t)| world.describe_slot(slot, t, origin, dir));
             hits += usize::from(want.is_some());
             let same = match (want, got) {
                 (None, None) => true,

@@ -125,3 +125,23 @@ pub fn write_rgb_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
     let data: Vec<u8> = scan.pixels.iter().flat_map(|p| p.rgb).collect();
     png(w, scan, png::ColorType::Rgb, png::BitDepth::Eight, &data)
 }
+
+/// 8-bit grey share of rust, 0..1 as 0..255, on the surface each pixel's centre ray meets.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_wear_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
+    let data: Vec<u8> = scan
+        .pixels
+        .iter()
+        .map(|p| (p.wear * 255.0).round() as u8)
+        .collect();
+    png(
+        w,
+        scan,
+        png::ColorType::Grayscale,
+        png::BitDepth::Eight,
+        &data,
+    )
+}

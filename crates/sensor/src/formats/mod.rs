@@ -15,7 +15,7 @@ use crate::scan::Scan;
 
 pub use image::{
     DEPTH_PNG_METRES_PER_UNIT, write_depth_png, write_intensity_png, write_label_png,
-    write_normal_png, write_rgb_png,
+    write_normal_png, write_rgb_png, write_wear_png,
 };
 pub use npy::{write_depth_npy, write_npy_i32, write_npy_synmotor, write_npz};
 pub use pcd::write_pcd;
@@ -25,7 +25,7 @@ pub use ply::write_ply;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum CloudFormat {
-    /// Binary PLY: x y z nx ny nz intensity snr red green blue class instance.
+    /// Binary PLY: x y z nx ny nz intensity snr red green blue class instance wear.
     Ply,
     /// Binary PCD v0.7 with a `label` field.
     Pcd,
@@ -92,8 +92,8 @@ pub type ImageWriter = fn(&mut dyn Write, &Scan) -> Result<()>;
 
 /// The images of a scan, as (file-name suffix, writer): depth as 16-bit PNG
 /// ([`DEPTH_PNG_METRES_PER_UNIT`]) and float32 NPY (measured and clean), normals, labels,
-/// instances, intensity and the colour image as PNG.
-pub const IMAGES: [(&str, ImageWriter); 8] = [
+/// instances, intensity, the colour image and the share of rust as PNG.
+pub const IMAGES: [(&str, ImageWriter); 9] = [
     ("depth.png", |w, s| write_depth_png(w, s, false)),
     ("depth.npy", |w, s| depth_npy(w, s, false)),
     ("depth_clean.npy", |w, s| depth_npy(w, s, true)),
@@ -102,6 +102,7 @@ pub const IMAGES: [(&str, ImageWriter); 8] = [
     ("instances.png", |w, s| write_label_png(w, s, true)),
     ("intensity.png", write_intensity_png),
     ("rgb.png", write_rgb_png),
+    ("wear.png", write_wear_png),
 ];
 
 /// Writes `rows`, each appended to a buffer by `put(row, buffer)`, to `w` in blocks of about

@@ -69,8 +69,8 @@ pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
 }
 
 /// Writes an NPZ with arrays `xyz` (N×3 float32), `normal` (N×3 float32), `intensity` (N
-/// float32), `snr` (N float32), `rgb` (N×3 uint8, sRGB), `label` (N uint16, the class) and `instance` (N
-/// uint32). Entries are stored uncompressed with a fixed timestamp, so the bytes are
+/// float32), `snr` (N float32), `rgb` (N×3 uint8, sRGB), `label` (N uint16, the class), `instance` (N
+/// uint32) and `wear` (N float32, the share of rust). Entries are stored uncompressed with a fixed timestamp, so the bytes are
 /// reproducible.
 ///
 /// # Errors
@@ -114,6 +114,9 @@ pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
     })?;
     entry("instance", &|w| {
         array(w, "<u4", &[n], c.instance.iter().copied(), u32::to_le_bytes)
+    })?;
+    entry("wear", &|w| {
+        array(w, "<f4", &[n], c.wear.iter().copied(), f32::to_le_bytes)
     })?;
     let bytes = zip.finish().map_err(std::io::Error::other)?.into_inner();
     w.write_all(&bytes)

@@ -210,7 +210,7 @@ impl<'a> Capture<'a> {
                 let seen = hit.map(|(slot, t)| {
                     let centre = epipolar.centre_ray(cut, c);
                     let dir = self.pose.transform_vector3(centre);
-                    (centre, self.world.describe_slot(slot, t, dir))
+                    (centre, self.world.describe_slot(slot, t, self.origin, dir))
                 });
                 *lit = match seen {
                     Some((centre, hit)) => illuminate(self, c, row, centre, hit, &mut line[c]),
@@ -297,7 +297,7 @@ impl<'a> Capture<'a> {
             let mut length = [[0.0; 4]; GROUPS];
             for (g, lane) in lanes::<GROUPS>() {
                 if let (Some((c, r)), Some(hit)) = (at[g][lane], &hits[g][lane]) {
-                    let hit = self.world.surface(hit, dirs[g][lane]);
+                    let hit = self.world.surface(hit, self.origin, dirs[g][lane]);
                     let (row, px) = (BLOCK * band + r, &mut out[r * width + c]);
                     let lit = illuminate(self, c, row, centres[g][lane], hit, px);
                     if let Some(LitPixel {

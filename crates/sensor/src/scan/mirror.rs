@@ -151,7 +151,10 @@ fn cast_run(
 ) {
     let (pose, world) = (&setup.pose, setup.world);
     let seen = |hit: &Hit, from: Vec3, dir: Vec3, world_dir: Vec3| {
-        let (q, hit) = (from + hit.t * dir, world.surface(hit, world_dir));
+        let (q, hit) = (
+            from + hit.t * dir,
+            world.surface(hit, pose.transform_point3(from), world_dir),
+        );
         let to_light = projector - q;
         let distance = to_light.length();
         let l = to_light / distance;

@@ -61,6 +61,8 @@ pub struct Pixel {
     pub snr: f32,
     /// Angle between the surface normal and the direction to the camera, radians.
     pub incidence: f32,
+    /// Share of rust on the surface the centre ray meets, 0..1 (0 where it meets none).
+    pub wear: f32,
 }
 
 impl Pixel {
@@ -75,6 +77,7 @@ impl Pixel {
         rgb: [0; 3],
         snr: 0.0,
         incidence: f32::NAN,
+        wear: 0.0,
     };
 
     /// Whether the sensor returned a point.

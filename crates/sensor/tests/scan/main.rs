@@ -7,4 +7,5 @@ mod kit;
 mod noise;
 mod regions;
 mod sensors;
+mod wear;
 mod zivid;

@@ -1,0 +1,178 @@
+//! Corrosion: where rust lies on a surface (a mask over its texture coordinates) and how it
+//! changes the surface's material for the depth model and the colour image alike.
+
+mod pattern;
+#[cfg(test)]
+mod tests;
+
+use glam::{Affine3A, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::materials::RUST;
+use crate::world::Material;
+
+use pattern::{Ramp, fbm, fbm_colour, luminance, voronoi_colour};
+
+/// Where rust lies, over a surface's texture coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mask {
+    /// The add-on's mask (`create_corrosion`): the object coordinates' noise (scale 0.5,
+    /// detail 16, roughness 0.833) ramped from black at `threshold` (the add-on's percent /
+    /// 250-400) to white at 0.909, taken as a point of a Voronoi texture (scale 2) whose cell
+    /// colour above 0.805 is rust.
+    Addon {
+        /// The first stop of the noise's ramp: percent / (250 to 400).
+        threshold: f32,
+    },
+    /// A coverage: rust where a fractal noise (scale 0.5, 4 octaves) lies below its quantile
+    /// `share`, with an edge of a few hundredths of the noise's range.
+    Coverage {
+        /// Share of the surface rusted, 0..1.
+        share: f32,
+    },
+}
+
+impl Mask {
+    /// The share of rust at texture coordinates `p`, 0..1.
+    pub fn share(&self, p: Vec3) -> f32 {
+        match *self {
+            Mask::Addon { threshold } => {
+                let noise = luminance(fbm_colour(0.5 * p, 16.0, 0.833));
+                let c = Ramp([(threshold, 0.0), (0.909, 1.0)]).at(noise);
+                let cell = luminance(voronoi_colour(2.0 * Vec3::splat(c)));
+                Ramp([(0.805, 0.0), (0.723, 1.0)]).at(cell)
+            }
+            Mask::Coverage { share } => {
+                if share <= 0.0 {
+                    return 0.0;
+                }
+                let v = fbm(0.5 * p, 3.0, 0.5);
+                ((quantile(share) - v) / EDGE + 0.5).clamp(0.0, 1.0)
+            }
+        }
+    }
+}
+
+/// Width of a coverage mask's edge, in the noise's values.
+const EDGE: f32 = 0.02;
+
+/// The noise value below which a share `q` of the coverage mask's noise lies.
+fn quantile(q: f32) -> f32 {
+    let table = QUANTILES.get_or_init(|| {
+        // the noise over a lattice far larger than its period, sorted
+        let mut v: Vec<f32> = (0..32_768u32)
+            .map(|k| {
+                let p = Vec3::new((k % 32) as f32, ((k / 32) % 32) as f32, (k / 1024) as f32);
+                fbm(0.5 * (0.37 * p + 0.11), 3.0, 0.5)
+            })
+            .collect();
+        v.sort_by(f32::total_cmp);
+        v
+    });
+    let i = (q.clamp(0.0, 1.0) * (table.len() - 1) as f32).round() as usize;
+    table[i] + if q >= 1.0 { 1.0 } else { 0.0 }
+}
+
+static QUANTILES: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
+
+/// Corrosion on one surface: where the rust lies and which rust it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wear {
+    /// World to the surface's texture coordinates (for a motor's part, the add-on's object
+    /// coordinates: centimetres, millimetres on bolts).
+    pub texture: Affine3A,
+    /// Where rust lies.
+    pub mask: Mask,
+    /// What it looks like.
+    pub rust: Rust,
+}
+
+impl Wear {
+    /// The share of rust at world point `p` and `clean` worn by it, or `None` where there is
+    /// none.
+    pub fn at(&self, clean: &Material, p: Vec3) -> Option<(f32, Material)> {
+        let q = self.texture.transform_point3(p);
+        let share = self.mask.share(q);
+        (share > 0.0).then(|| (share, mix(clean, &self.rust.material(q), share)))
+    }
+}
+
+/// `a` worn to `b` by `t`: every property of the depth model and the colour's surface mixed
+/// linearly.
+fn mix(a: &Material, b: &Material, t: f32) -> Material {
+    let l = |x: f32, y: f32| x + (y - x) * t;
+    Material {
+        reflectivity: l(a.reflectivity, b.reflectivity),
+        specular: l(a.specular, b.specular),
+        lobe: l(a.lobe, b.lobe),
+        colour: [0, 1, 2].map(|k| l(a.colour[k], b.colour[k])),
+        metallic: l(a.metallic, b.metallic),
+        roughness: l(a.roughness, b.roughness),
+        ior_level: l(a.ior_level, b.ior_level),
+    }
+}
+
+/// One of the add-on's nine rust textures ("Rust 1" to "Rust 9"), as its mean linear colour
+/// and the spread of its brightness.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "u8", into = "u8")]
+pub struct Rust(u8);
+
+/// Per rust type: the mean linear colour of the add-on's `rustN.jpg` and the relative
+/// standard deviation of its luminance.
+const RUSTS: [([f32; 3], f32); 9] = [
+    ([0.135, 0.120, 0.127], 0.542),
+    ([0.333, 0.290, 0.266], 0.305),
+    ([0.276, 0.187, 0.115], 0.622),
+    ([0.350, 0.052, 0.033], 0.708),
+    ([0.173, 0.235, 0.201], 0.636),
+    ([0.436, 0.473, 0.289], 0.353),
+    ([0.601, 0.530, 0.322], 0.406),
+    ([0.301, 0.279, 0.253], 0.233),
+    ([0.570, 0.517, 0.418], 0.158),
+];
+
+impl Rust {
+    /// Rust `n`, 1 to 9, if it is one.
+    pub fn new(n: u8) -> Option<Rust> {
+        (1..=9).contains(&n).then_some(Rust(n))
+    }
+
+    /// Its number, 1 to 9.
+    pub fn number(self) -> u8 {
+        self.0
+    }
+
+    /// The rust at texture coordinates `q`: the add-on's rust BSDF (metallic, roughness
+    /// 0.774) coloured by the texture's mean times a fractal noise of the texture's spread;
+    /// dark and matte to the depth sensor ([`RUST`]'s reflectivity, specular share and lobe).
+    fn material(self, q: Vec3) -> Material {
+        let (mean, spread) = RUSTS[usize::from(self.0 - 1)];
+        let v = fbm(2.0 * q, 3.0, 0.6);
+        let shade = (1.0 + spread * (v - 0.5) / NOISE_SIGMA).max(0.0);
+        Material {
+            colour: mean.map(|c| (c * shade).min(1.0)),
+            metallic: 1.0,
+            roughness: 0.774,
+            ior_level: 0.5,
+            ..RUST
+        }
+    }
+}
+
+/// Standard deviation of the rust's fractal noise (`fbm(_, 3, 0.6)`, measured).
+const NOISE_SIGMA: f32 = 0.08;
+
+impl TryFrom<u8> for Rust {
+    type Error = String;
+
+    fn try_from(n: u8) -> Result<Rust, String> {
+        Rust::new(n).ok_or_else(|| format!("rust type {n} is not one of 1 to 9"))
+    }
+}
+
+impl From<Rust> for u8 {
+    fn from(r: Rust) -> u8 {
+        r.0
+    }
+}

@@ -1,0 +1,87 @@
+//! Rust as the depth sensor and the colour image see it: a worn surface is dark and matte.
+
+use ::sensor::wear::{Mask, Rust, Wear};
+use ::sensor::*;
+use glam::{Affine3A, Vec3};
+
+/// A Zivid 2+ M60 scan of a stainless-steel sphere 0.55 m away, the sphere rusted over
+/// `share` of its surface (none for 0).
+fn pole_pot(share: f32, seed: u64) -> Scan {
+    let mut sphere = Target::from_triangles(
+        &shapes::sphere(Vec3::new(0.0, 0.0, 0.55), 0.05, 64),
+        2,
+        2,
+        materials::STAINLESS_STEEL,
+    );
+    sphere.wear = (share > 0.0).then(|| Wear {
+        // centimetres about the sphere's centre, as a motor part's
+        texture: Affine3A::from_scale(Vec3::splat(100.0))
+            * Affine3A::from_translation(Vec3::new(0.0, 0.0, -0.55)),
+        mask: Mask::Coverage { share },
+        rust: Rust::new(1).unwrap(),
+    });
+    let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
+    scan(&World::new(&[sphere]), &spec, &Affine3A::IDENTITY, seed)
+}
+
+/// (share of the sphere's pixels saturated or dropped, mean SNR of its points, mean wear of its
+/// pixels, mean green of its colour).
+fn statistics(s: &Scan) -> (f64, f64, f64, f64) {
+    let on: Vec<&Pixel> = s.pixels.iter().filter(|p| p.instance == 2).collect();
+    let n = on.len() as f64;
+    let lost = on.iter().filter(|p| !p.is_valid()).count() as f64 / n;
+    let valid: Vec<&&Pixel> = on.iter().filter(|p| p.is_valid()).collect();
+    let snr = valid.iter().map(|p| f64::from(p.snr)).sum::<f64>() / valid.len() as f64;
+    let wear = on.iter().map(|p| f64::from(p.wear)).sum::<f64>() / n;
+    let green = on.iter().map(|p| f64::from(p.rgb[1])).sum::<f64>() / n;
+    (lost, snr, wear, green)
+}
+
+#[test]
+fn rust_lowers_the_snr_and_the_saturated_share_of_stainless_steel() {
+    let (clean_lost, clean_snr, clean_wear, _) = statistics(&pole_pot(0.0, 3));
+    let (rust_lost, rust_snr, rust_wear, _) = statistics(&pole_pot(1.0, 3));
+    assert_eq!(clean_wear, 0.0);
+    assert!(rust_wear > 0.99, "wear {rust_wear}");
+    // the clean sphere's highlight saturates and leaves a hole; rust has none
+    assert!(clean_lost > 0.002, "clean: {clean_lost} lost");
+    assert!(
+        rust_lost < clean_lost / 4.0,
+        "lost {rust_lost} vs {clean_lost}"
+    );
+    assert!(rust_snr < 0.8 * clean_snr, "SNR {rust_snr} vs {clean_snr}");
+}
+
+#[test]
+fn the_wear_channel_is_the_share_of_rust_and_follows_the_coverage() {
+    let mut last = 0.0;
+    for share in [0.2, 0.5, 0.8] {
+        let (_, _, wear, _) = statistics(&pole_pot(share, 1));
+        // a hemisphere of a few noise periods: the share seen is near the share drawn
+        assert!((wear - f64::from(share)).abs() < 0.2, "{share}: {wear}");
+        assert!(wear > last, "{share}: {wear} after {last}");
+        last = wear;
+    }
+    let s = pole_pot(0.5, 1);
+    let cloud = s.cloud(false, Frame::Camera, Units::Metres);
+    assert!(cloud.wear.contains(&0.0) && cloud.wear.contains(&1.0));
+    assert_eq!(
+        s.pixels
+            .iter()
+            .filter(|p| p.instance == 0)
+            .map(|p| p.wear)
+            .sum::<f32>(),
+        0.0
+    );
+}
+
+#[test]
+fn the_same_seed_gives_the_same_rust() {
+    let (a, b) = (pole_pot(0.5, 9), pole_pot(0.5, 9));
+    assert!(
+        a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .all(|(p, q)| p.wear == q.wear && p.rgb == q.rgb)
+    );
+}
