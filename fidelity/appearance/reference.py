@@ -148,6 +148,68 @@ def create_corrosion(self, obj, texture, corr_percent, part):
     return mat
 
 
+def rust(o, wear, units):
+    """Rusts object `o` as motorfactory's coverage mask does, every node Blender's own: the
+    texture coordinates of an empty at the object's centre scaled to `units` per metre, a noise
+    (scale 0.5, detail 3, roughness 0.5) below wear['threshold'] (sensor::wear's quantile of
+    the share, with an edge 0.02 wide) mixing the object's material with the add-on's rust BSDF
+    (metallic 1, roughness 0.774) coloured by wear['colour'] times 1 + spread / 0.08 x (a
+    noise at scale 2, detail 3, roughness 0.6, less 1/2)."""
+    lo = Vector(o.bound_box[0])
+    hi = Vector(o.bound_box[6])
+    frame = bpy.data.objects.new('frame_' + o.name, None)
+    bpy.context.scene.collection.objects.link(frame)
+    frame.location = o.matrix_world @ ((lo + hi) / 2)
+    frame.scale = (1 / units,) * 3
+    for k, clean in enumerate(o.data.materials):
+        mat = clean.copy()
+        nodes, link = mat.node_tree.nodes, mat.node_tree.links.new
+        out = nodes['Material Output']
+        part = out.inputs['Surface'].links[0].from_socket
+        coords = nodes.new('ShaderNodeTexCoord')
+        coords.object = frame
+
+        def noise(scale, detail, roughness):
+            n = nodes.new('ShaderNodeTexNoise')
+            for key, value in (('Scale', scale), ('Detail', detail), ('Roughness', roughness)):
+                n.inputs[key].default_value = value
+            link(coords.outputs['Object'], n.inputs['Vector'])
+            return n.outputs['Fac']
+
+        def math(op, a, b, clamp=False):
+            m = nodes.new('ShaderNodeMath')
+            m.operation, m.use_clamp = op, clamp
+            for socket, value in zip(m.inputs, (a, b)):
+                if isinstance(value, float):
+                    socket.default_value = value
+                else:
+                    link(value, socket)
+            return m.outputs[0]
+
+        mask = math('ADD', math('DIVIDE', math('SUBTRACT', wear['threshold'], noise(0.5, 3, 0.5)),
+                                0.02), 0.5, clamp=True)
+        shade = math('MAXIMUM', math('ADD', math('MULTIPLY', math('SUBTRACT', noise(2.0, 3, 0.6),
+                                                                   0.5), wear['spread'] / 0.08),
+                                     1.0), 0.0)
+        colour = nodes.new('ShaderNodeMix')
+        colour.data_type, colour.blend_type = 'RGBA', 'MULTIPLY'
+        colour.inputs['Factor'].default_value = 1.0
+        colour.inputs[6].default_value = (*wear['colour'], 1.0)
+        link(shade, colour.inputs[7])
+        bsdf = nodes.new('ShaderNodeBsdfPrincipled')
+        bsdf.inputs['Metallic'].default_value = 1.0
+        bsdf.inputs['Roughness'].default_value = 0.774
+        bsdf.inputs['Specular IOR Level'].default_value = 0.5
+        bsdf.inputs['IOR'].default_value = 1.5
+        link(colour.outputs[2], bsdf.inputs['Base Color'])
+        mix = nodes.new('ShaderNodeMixShader')
+        link(mask, mix.inputs['Fac'])
+        link(part, mix.inputs[1])
+        link(bsdf.outputs[0], mix.inputs[2])
+        link(mix.outputs[0], out.inputs['Surface'])
+        o.data.materials[k] = mat
+
+
 def motor(case, corrosion=None):
     """The add-on's motor of `case` (cases.json) with its colour render on, in metres, and its
     corrosion (type and percent on the bolts and on the pole pot) or none; returns each mesh
@@ -370,7 +432,11 @@ def main():
             continue
         objects = []
         if 'motor' in spec:
-            objects = motor(spec['motor']['case'])
+            objects = motor(spec['motor']['case'], spec['motor'].get('corrosion'))
+            wear = spec['motor'].get('wear')
+            for o, group in objects if wear else []:
+                if group in wear['parts']:
+                    rust(o, wear, 1000.0 if group == 'bolts' else 100.0)
         for k, obj in enumerate(spec.get('objects', [])):
             if obj['shape'] == 'sphere':
                 tris = sphere(obj['centre'], obj['radius'], obj['n'])

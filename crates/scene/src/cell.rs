@@ -48,9 +48,8 @@ impl Object {
 }
 
 /// Rust drawn for part `p` (motor frame to world `to_world`) by `config`, or none: the share
-/// from the part kind's span, a rust type, and the texture coordinates the add-on's object has
-/// (centimetres, millimetres on bolts, about the part's centre), shifted at random by up to 100
-/// units under a coverage mask, so that no two parts rust alike.
+/// from the part kind's span, a rust type, and the part's [`texture`] coordinates, shifted at
+/// random by up to 100 units under a coverage mask, so that no two parts rust alike.
 fn draw_wear(
     p: &Part,
     to_world: &Affine3A,
@@ -76,22 +75,24 @@ fn draw_wear(
             (Mask::Addon { threshold }, Vec3::ZERO)
         }
     };
-    if share <= 0.0 {
-        return None;
-    }
+    (share > 0.0).then(|| Wear {
+        texture: Affine3A::from_translation(offset) * texture(p, to_world),
+        mask,
+        rust,
+    })
+}
+
+/// World to part `p`'s texture coordinates (motor frame to world `to_world`): the add-on's
+/// object coordinates, centimetres about the part's centre, millimetres on bolts (the add-on
+/// scales its bolts by 0.1).
+pub fn texture(p: &Part, to_world: &Affine3A) -> Affine3A {
     let units = match p.kind {
         PartKind::SideBolt | PartKind::CoverBolt => 1000.0,
         _ => 100.0,
     };
-    let texture = Affine3A::from_translation(offset)
-        * Affine3A::from_scale(Vec3::splat(units))
+    Affine3A::from_scale(Vec3::splat(units))
         * Affine3A::from_translation(-p.mesh.bounds().centre())
-        * to_world.inverse();
-    Some(Wear {
-        texture,
-        mask,
-        rust,
-    })
+        * to_world.inverse()
 }
 
 /// A composed cell.

@@ -13,6 +13,7 @@ use motorgen::{Detail, MotorParams, PartKind};
 use palette::color_difference::Ciede2000;
 use palette::{IntoColor, Lab, Srgb};
 use sensor::render::{Lighting, Settings, render};
+use sensor::wear::{Mask, Rust, Wear, coverage_threshold};
 use sensor::{Classes, Intrinsics, Material, Target, World, look_at, shapes};
 use serde::Deserialize;
 
@@ -58,6 +59,62 @@ struct Shape {
 #[derive(Deserialize)]
 struct MotorSpec {
     params: BTreeMap<String, motorgen::params::Value>,
+    /// The add-on's own corrosion render, if on.
+    corrosion: Option<Corrosion>,
+    /// Rust laid by our coverage mask, if any.
+    wear: Option<WearSpec>,
+}
+
+/// The add-on's corrosion settings (its percent on the bolts and the pole pot).
+#[derive(Deserialize)]
+struct Corrosion {
+    bolt_percent: f32,
+    pole_pot_percent: f32,
+}
+
+/// Our coverage mask on some parts, with what the oracle builds from it.
+#[derive(Deserialize)]
+struct WearSpec {
+    parts: Vec<String>,
+    share: f32,
+    threshold: f32,
+    rust: u8,
+    colour: [f32; 3],
+    spread: f32,
+}
+
+/// The add-on's divisor of its percent below 50 % (it draws one from 250 to 279): the middle.
+const ADDON_DIVISOR: f32 = 265.0;
+
+/// The wear our part of `kind` takes in `m`.
+fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
+    let rust1 = Rust::new(1).unwrap();
+    let texture = scene::cell::texture(part, &glam::Affine3A::IDENTITY);
+    let g = group(part.kind);
+    if let Some(w) = &m.wear {
+        let rust = Rust::new(w.rust).unwrap();
+        // the oracle's nodes are built from these: they must be ours
+        assert!((w.threshold - coverage_threshold(w.share)).abs() < 1e-6);
+        assert_eq!((w.colour, w.spread), rust.look());
+        return w.parts.iter().any(|p| p == g).then_some(Wear {
+            texture,
+            mask: Mask::Coverage { share: w.share },
+            rust,
+        });
+    }
+    let c = m.corrosion.as_ref()?;
+    let percent = match g {
+        "bolts" => c.bolt_percent,
+        "pole pot" => c.pole_pot_percent,
+        _ => return None,
+    };
+    Some(Wear {
+        texture,
+        mask: Mask::Addon {
+            threshold: percent / ADDON_DIVISOR,
+        },
+        rust: rust1,
+    })
 }
 
 /// The comparison's name for a part of ours (the add-on's objects are grouped alike).
@@ -104,7 +161,7 @@ fn targets(spec: &Spec) -> Vec<(Target, u32)> {
                 classes: Classes::Uniform(1),
                 instance: 1000 + part.instance,
                 material: scene::cell::material(part.kind),
-                wear: None,
+                wear: wear(m, part),
             };
             out.push((target, number + 1));
         }

@@ -47,17 +47,19 @@ impl Mask {
                     return 0.0;
                 }
                 let v = fbm(0.5 * p, 3.0, 0.5);
-                ((quantile(share) - v) / EDGE + 0.5).clamp(0.0, 1.0)
+                ((coverage_threshold(share) - v) / EDGE + 0.5).clamp(0.0, 1.0)
             }
         }
     }
 }
 
 /// Width of a coverage mask's edge, in the noise's values.
-const EDGE: f32 = 0.02;
+pub const EDGE: f32 = 0.02;
 
-/// The noise value below which a share `q` of the coverage mask's noise lies.
-fn quantile(q: f32) -> f32 {
+/// The noise value below which a share `q` of the coverage mask's noise lies (Blender's Noise
+/// Texture at scale 0.5, detail 3, roughness 0.5; its values sampled over a lattice): a coverage
+/// mask rusts `clamp((threshold - noise) / EDGE + 1/2, 0, 1)`.
+pub fn coverage_threshold(q: f32) -> f32 {
     let table = QUANTILES.get_or_init(|| {
         // the noise over a lattice far larger than its period, sorted
         let mut v: Vec<f32> = (0..32_768u32)
@@ -143,11 +145,16 @@ impl Rust {
         self.0
     }
 
+    /// Its mean linear colour and the relative spread of its brightness.
+    pub fn look(self) -> ([f32; 3], f32) {
+        RUSTS[usize::from(self.0 - 1)]
+    }
+
     /// The rust at texture coordinates `q`: the add-on's rust BSDF (metallic, roughness
     /// 0.774) coloured by the texture's mean times a fractal noise of the texture's spread;
     /// dark and matte to the depth sensor ([`RUST`]'s reflectivity, specular share and lobe).
     fn material(self, q: Vec3) -> Material {
-        let (mean, spread) = RUSTS[usize::from(self.0 - 1)];
+        let (mean, spread) = self.look();
         let v = fbm(2.0 * q, 3.0, 0.6);
         let shade = (1.0 + spread * (v - 0.5) / NOISE_SIGMA).max(0.0);
         Material {
