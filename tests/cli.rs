@@ -841,6 +841,7 @@ fn messages_say_what_is_allowed_in_words_and_stay_short() {
         (set("cell.clearance=[1]"), "expected a number"),
         (set("cell.wear.pole_pot=[0, 2]"), "cell.wear.pole_pot"),
         (set("cell.wear.rust=[0, 9]"), "rust types 1 to 9"),
+        (set("cell.wear.variation=0.9"), "cell.wear.variation"),
         (set("cell.wear.mask=\"patchy\""), "unknown variant"),
         (set("augment.clean.occluders=1"), "expected true or false"),
         (set("camera.distanse=1"), "did you mean `distance`?"),

@@ -47,16 +47,27 @@ impl Object {
     }
 }
 
-/// Rust drawn for part `p` (motor frame to world `to_world`) by `config`, or none: the share
-/// from the part kind's span, a rust type, and the part's [`texture`] coordinates, shifted at
-/// random by up to 100 units under a coverage mask, so that no two parts rust alike.
+/// Wear drawn for part `p` (motor frame to world `to_world`) by `config`: its material varied
+/// within its range, and rust (bolts, pole pot, electric connection), dust and grease with the
+/// part's [`texture`] coordinates, shifted at random by up to 100 units under coverage masks so
+/// that no two parts wear alike.
 fn draw_wear(
     p: &Part,
     to_world: &Affine3A,
     config: &WearConfig,
+    material: &mut Material,
     rng: &mut impl Rng,
 ) -> Option<Wear> {
-    let share = config.span(p.kind)?.sample(rng);
+    let v = config.variation;
+    if v > 0.0 {
+        let scale = rng.random_range(1.0 - v..=1.0 + v);
+        material.colour = material.colour.map(|c| (c * scale).min(1.0));
+        material.reflectivity = (material.reflectivity * scale).min(1.0);
+        let shift = rng.random_range(-v / 2.0..=v / 2.0);
+        material.roughness = (material.roughness + shift).clamp(0.0, 1.0);
+    }
+    let share = config.span(p.kind).map_or(0.0, |s| s.sample(rng));
+    let (dust, grease) = (config.dust.sample(rng), config.grease.sample(rng));
     let rust = Rust::new(rng.random_range(config.rust[0]..=config.rust[1]))?;
     let (mask, offset) = match config.mask {
         WearMask::Coverage => {
@@ -75,10 +86,12 @@ fn draw_wear(
             (Mask::Addon { threshold }, Vec3::ZERO)
         }
     };
-    (share > 0.0).then(|| Wear {
+    (share > 0.0 || dust > 0.0 || grease > 0.0).then(|| Wear {
         texture: Affine3A::from_translation(offset) * texture(p, to_world),
         mask,
         rust,
+        dust,
+        grease,
     })
 }
 
@@ -231,7 +244,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
     if config.wear.enabled() {
         let parts = motor.parts.iter().filter(|p| !hidden(p.kind));
         for (o, p) in objects.iter_mut().zip(parts) {
-            o.wear = draw_wear(p, &motor_to_world, &config.wear, rng);
+            o.wear = draw_wear(p, &motor_to_world, &config.wear, &mut o.material, rng);
         }
     }
 

@@ -100,6 +100,8 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
             texture,
             mask: Mask::Coverage { share: w.share },
             rust,
+            dust: 0.0,
+            grease: 0.0,
         });
     }
     let c = m.corrosion.as_ref()?;
@@ -114,6 +116,8 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
             threshold: percent / ADDON_DIVISOR,
         },
         rust: rust1,
+        dust: 0.0,
+        grease: 0.0,
     })
 }
 

@@ -444,14 +444,16 @@ fn colour_does_not_give_the_label_away() {
     );
 }
 
-/// Rust drawn per sample: the bolts and the pole pot carry it in the cloud's wear channel, no
-/// other part does, and the same seed draws the same rust.
+/// Wear drawn per sample: the bolts and the pole pot carry their rust in the cloud's wear
+/// channel, no other part does (dust is not rust), and the same seed draws the same wear.
 #[test]
 fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     let mut table = scene::config::builtin_table("default").unwrap();
     let span = toml::Value::Array(vec![0.3.into(), 0.6.into()]);
     scene::set_key(&mut table, "cell.wear.bolts", span.clone()).unwrap();
-    scene::set_key(&mut table, "cell.wear.pole_pot", span).unwrap();
+    scene::set_key(&mut table, "cell.wear.pole_pot", span.clone()).unwrap();
+    scene::set_key(&mut table, "cell.wear.dust", span).unwrap();
+    scene::set_key(&mut table, "cell.wear.variation", 0.2.into()).unwrap();
     scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
     let config = Config::from_table(&table).unwrap();
     let scheme = config.output.scheme;

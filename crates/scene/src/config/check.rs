@@ -79,8 +79,17 @@ impl Config {
             ("cell.wear.bolts", &w.bolts),
             ("cell.wear.pole_pot", &w.pole_pot),
             ("cell.wear.electric_connection", &w.electric_connection),
+            ("cell.wear.dust", &w.dust),
+            ("cell.wear.grease", &w.grease),
         ] {
             s.check(key, 0.0, 1.0)?;
+        }
+        if !(0.0..=0.5).contains(&w.variation) {
+            return Err(Error::invalid(
+                "cell.wear.variation",
+                w.variation,
+                "0 to 0.5",
+            ));
         }
         if !(1 <= w.rust[0] && w.rust[0] <= w.rust[1] && w.rust[1] <= 9) {
             return Err(Error::invalid(

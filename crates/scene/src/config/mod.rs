@@ -198,12 +198,26 @@ pub struct WearConfig {
     pub pole_pot: Span,
     /// Share of the electric connection's surface rusted, 0..1.
     pub electric_connection: Span,
+    /// Share of each motor part's surface under dust, 0..1.
+    pub dust: Span,
+    /// Share of each motor part's surface under grease, 0..1.
+    pub grease: Span,
+    /// Each motor part's colour and reflectivity scaled by 1 ± this and its roughness moved by
+    /// ± half of it, drawn per part: no two parts of a kind quite alike, 0..0.5.
+    pub variation: f32,
 }
 
 impl WearConfig {
-    /// Whether any part may rust.
+    /// Whether any part may wear (rust, dust, grease or vary).
     pub fn enabled(&self) -> bool {
-        [self.bolts, self.pole_pot, self.electric_connection]
+        self.variation > 0.0
+            || [
+                self.bolts,
+                self.pole_pot,
+                self.electric_connection,
+                self.dust,
+                self.grease,
+            ]
             .iter()
             .any(|s| s.max > 0.0)
     }

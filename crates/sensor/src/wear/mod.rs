@@ -1,5 +1,5 @@
-//! Corrosion: where rust lies on a surface (a mask over its texture coordinates) and how it
-//! changes the surface's material for the depth model and the colour image alike.
+//! Wear: where rust, dust and grease lie on a surface (masks over its texture coordinates) and
+//! how they change the surface's material for the depth model and the colour image alike.
 
 mod pattern;
 #[cfg(test)]
@@ -87,17 +87,55 @@ pub struct Wear {
     pub mask: Mask,
     /// What it looks like.
     pub rust: Rust,
+    /// Share of the surface under dust, 0..1, over the rust.
+    pub dust: f32,
+    /// Share of the surface under grease, 0..1, over the rust and the dust.
+    pub grease: f32,
 }
 
 impl Wear {
-    /// The share of rust at world point `p` and `clean` worn by it, or `None` where there is
-    /// none.
+    /// The share of rust at world point `p` and `clean` worn there, or `None` where the surface
+    /// is clean.
     pub fn at(&self, clean: &Material, p: Vec3) -> Option<(f32, Material)> {
         let q = self.texture.transform_point3(p);
-        let share = self.mask.share(q);
-        (share > 0.0).then(|| (share, mix(clean, &self.rust.material(q), share)))
+        let rust = self.mask.share(q);
+        let mut m = (rust > 0.0).then(|| mix(clean, &self.rust.material(q), rust));
+        // dirt in patches twice the rust's, each of its own noise
+        for (share, offset, dirt) in [
+            (self.dust, Vec3::new(37.1, 91.3, 12.7), &DUST),
+            (self.grease, Vec3::new(-53.9, 17.2, 71.5), &GREASE),
+        ] {
+            let cover = Mask::Coverage { share }.share(0.5 * q + offset);
+            if cover > 0.0 {
+                m = Some(mix(m.as_ref().unwrap_or(clean), dirt, cover));
+            }
+        }
+        m.map(|m| (rust, m))
     }
 }
+
+/// Dust: a light, matte grey-brown film that hides a surface's sheen (the depth model's
+/// highlights too).
+const DUST: Material = Material {
+    reflectivity: 0.35,
+    specular: 0.0,
+    lobe: 0.5,
+    colour: [0.24, 0.21, 0.17],
+    metallic: 0.0,
+    roughness: 0.95,
+    ior_level: 0.5,
+};
+
+/// Grease: a dark, glossy film (a wet dielectric highlight over a dark brown).
+const GREASE: Material = Material {
+    reflectivity: 0.08,
+    specular: 0.3,
+    lobe: 0.12,
+    colour: [0.035, 0.027, 0.018],
+    metallic: 0.0,
+    roughness: 0.25,
+    ior_level: 0.5,
+};
 
 /// `a` worn to `b` by `t`: every property of the depth model and the colour's surface mixed
 /// linearly.

@@ -1,4 +1,5 @@
-//! Rust as the depth sensor and the colour image see it: a worn surface is dark and matte.
+//! Wear as the depth sensor and the colour image see it: rust is dark and matte, dust light and
+//! matte, grease dark.
 
 use ::sensor::wear::{Mask, Rust, Wear};
 use ::sensor::*;
@@ -7,18 +8,25 @@ use glam::{Affine3A, Vec3};
 /// A Zivid 2+ M60 scan of a stainless-steel sphere 0.55 m away, the sphere rusted over
 /// `share` of its surface (none for 0).
 fn pole_pot(share: f32, seed: u64) -> Scan {
+    dirty_pole_pot(share, 0.0, 0.0, seed)
+}
+
+/// [`pole_pot`] with shares of dust and grease.
+fn dirty_pole_pot(share: f32, dust: f32, grease: f32, seed: u64) -> Scan {
     let mut sphere = Target::from_triangles(
         &shapes::sphere(Vec3::new(0.0, 0.0, 0.55), 0.05, 64),
         2,
         2,
         materials::STAINLESS_STEEL,
     );
-    sphere.wear = (share > 0.0).then(|| Wear {
+    sphere.wear = (share + dust + grease > 0.0).then(|| Wear {
         // centimetres about the sphere's centre, as a motor part's
         texture: Affine3A::from_scale(Vec3::splat(100.0))
             * Affine3A::from_translation(Vec3::new(0.0, 0.0, -0.55)),
         mask: Mask::Coverage { share },
         rust: Rust::new(1).unwrap(),
+        dust,
+        grease,
     });
     let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
     scan(&World::new(&[sphere]), &spec, &Affine3A::IDENTITY, seed)
@@ -84,4 +92,24 @@ fn the_same_seed_gives_the_same_rust() {
             .zip(&b.pixels)
             .all(|(p, q)| p.wear == q.wear && p.rgb == q.rgb)
     );
+}
+
+#[test]
+fn dust_hides_the_highlights_and_grease_darkens_without_counting_as_rust() {
+    let (clean_lost, _, _, clean_green) = statistics(&pole_pot(0.0, 4));
+    let (dust_lost, _, dust_wear, dust_green) = statistics(&dirty_pole_pot(0.0, 1.0, 0.0, 4));
+    let (_, _, grease_wear, grease_green) = statistics(&dirty_pole_pot(0.0, 0.0, 1.0, 4));
+    assert!(
+        dust_lost < clean_lost / 4.0,
+        "lost {dust_lost} vs {clean_lost}"
+    );
+    assert!(
+        grease_green < 0.7 * clean_green,
+        "green {grease_green} vs {clean_green}"
+    );
+    assert!(
+        dust_green > grease_green,
+        "dust {dust_green}, grease {grease_green}"
+    );
+    assert_eq!((dust_wear, grease_wear), (0.0, 0.0));
 }
