@@ -31,6 +31,12 @@ pub(super) struct SurfaceLight {
 }
 
 impl Response {
+    /// The colour camera's centre in the depth camera's frame, if it is not the same imager.
+    pub(super) fn offset(&self) -> Option<Vec3> {
+        let offset = Vec3::from(self.camera.offset);
+        (offset != Vec3::ZERO).then_some(offset)
+    }
+
     pub(super) fn new(camera: &ColourCamera) -> Response {
         let [red, blue] = camera.white_balance;
         Response {
@@ -55,9 +61,16 @@ impl Response {
             ambient: Vec3::ZERO,
             flash: Vec3::ZERO,
         };
-        // a 3D-only capture records no light
-        if self.camera.capture == ColourCapture::ThreeD {
-            return dark;
+        match self.camera.capture {
+            // a 3D-only capture records no light
+            ColourCapture::ThreeD => return dark,
+            ColourCapture::Flat => {
+                return SurfaceLight {
+                    ambient: Vec3::from(material.colour),
+                    flash: Vec3::ZERO,
+                };
+            }
+            ColourCapture::TwoDThreeD => {}
         }
         let Some(bsdf) = Bsdf::new(material, n, wo) else {
             return dark;
@@ -67,17 +80,22 @@ impl Response {
         } else {
             bsdf.albedo() * self.ambient
         };
-        let flash = to_flash.map_or(Vec3::ZERO, |(dir, falloff)| {
-            bsdf.reflect(dir) * (PI * self.camera.exposure * falloff)
-        });
+        let flash = match to_flash {
+            Some((dir, falloff)) if self.camera.flash => {
+                bsdf.reflect(dir) * (PI * self.camera.exposure * falloff)
+            }
+            _ => Vec3::ZERO,
+        };
         SurfaceLight { ambient, flash }
     }
 
     /// The 8-bit sRGB a pixel records of linear light `light`.
     #[inline]
     pub(super) fn record(&self, light: Vec3, rng: PixelRng) -> [u8; 3] {
-        if self.camera.capture == ColourCapture::ThreeD {
-            return PINK;
+        match self.camera.capture {
+            ColourCapture::ThreeD => return PINK,
+            ColourCapture::Flat => return light.to_array().map(crate::render::srgb8),
+            ColourCapture::TwoDThreeD => {}
         }
         let light = if self.camera.monochrome {
             Vec3::splat(luminance(light))

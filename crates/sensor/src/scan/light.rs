@@ -3,7 +3,7 @@
 use glam::Vec3;
 
 use super::Pixel;
-use super::cast::Capture;
+use super::cast::{Capture, gap};
 use crate::noise::{PixelRng, stream};
 use crate::spec::SensorSpec;
 use crate::world::SurfaceHit;
@@ -24,8 +24,9 @@ pub(super) struct LitPixel {
     pub(super) light: f32,
     /// The surface's diffuse reflectivity.
     pub(super) reflectivity: f32,
-    /// The light the surface sends to the colour camera in the ambient light alone.
-    pub(super) ambient: Vec3,
+    /// The light the surface sends to the colour camera in the ambient light alone, if that
+    /// camera sees the surface.
+    pub(super) ambient: Option<Vec3>,
     /// The surface's specular share and the width of its lobe, radians.
     pub(super) specular: f32,
     pub(super) lobe: f32,
@@ -40,7 +41,9 @@ impl LitPixel {
     /// ambient light alone, and as [`LitPixel::shadowed`].
     #[inline]
     pub(super) fn in_shadow(self, setup: &Capture, px: &mut Pixel) -> Option<LitPixel> {
-        px.rgb = setup.colour.record(self.ambient, self.rng);
+        if let Some(ambient) = self.ambient {
+            px.rgb = setup.colour.record(ambient, self.rng);
+        }
         self.shadowed(setup.sensor)
     }
 
@@ -98,7 +101,22 @@ pub(super) fn illuminate(
     // where the light falls): the projector, or the camera itself
     let surface = px.clean;
     let material = hit.material;
-    let colour = |to_flash| setup.colour.light(&material, normal, -centre, to_flash);
+    // the colour camera's view of the point: this camera's, or one beside it that may not see
+    // it (then the pixel records black)
+    let (wo, seen_by_colour) = match setup.colour.offset() {
+        None => (-centre, true),
+        Some(offset) => {
+            let to = offset - surface;
+            let distance = to.length();
+            let dir = setup.pose.transform_vector3(to / distance);
+            let from = setup.pose.transform_point3(surface);
+            let blocked = setup
+                .world
+                .occluded(from + dir * gap(distance), dir, distance);
+            (to / distance, !blocked)
+        }
+    };
+    let colour = |to_flash| setup.colour.light(&material, normal, wo, to_flash);
     let ((light_dir, light_range), shadow) = match projector {
         Some((frustum, centre)) => {
             let to_light = *centre - surface;
@@ -107,7 +125,9 @@ pub(super) fn illuminate(
             // outside the projector's field or self-shadowed (the surface faces away from
             // it): the ambient light alone
             if !frustum.lights(surface) || normal.dot(l) <= 0.0 {
-                px.rgb = setup.colour.record(colour(None).ambient, rng);
+                if seen_by_colour {
+                    px.rgb = setup.colour.record(colour(None).ambient, rng);
+                }
                 return None;
             }
             ((l, distance), Some((surface, distance)))
@@ -121,7 +141,9 @@ pub(super) fn illuminate(
     // the colour as lit; a pixel the projector's shadow turns out to cover records the ambient
     // light alone ([`LitPixel::in_shadow`])
     let seen = colour(Some((light_dir, falloff)));
-    px.rgb = setup.colour.record(seen.ambient + seen.flash, rng);
+    if seen_by_colour {
+        px.rgb = setup.colour.record(seen.ambient + seen.flash, rng);
+    }
     // the diffuse reflection and the highlight about the mirror direction
     let highlight = if material.specular > 0.0 && noise.specular.saturation > 0.0 {
         let half = (light_dir - centre).normalize();
@@ -153,7 +175,7 @@ pub(super) fn illuminate(
         snr,
         light,
         reflectivity: material.reflectivity,
-        ambient: seen.ambient,
+        ambient: seen_by_colour.then_some(seen.ambient),
         specular: material.specular,
         lobe: material.lobe,
         shadow,

@@ -17,6 +17,10 @@ pub enum ColourCapture {
     /// A 3D-only capture: no 2D image; every pixel is Zivid's pink, RGB (200, 50, 200).
     #[serde(rename = "3d")]
     ThreeD,
+    /// Each pixel its surface's base colour, unlit and without noise, as Blensor's scanners
+    /// record a material's colour.
+    #[serde(rename = "flat")]
+    Flat,
 }
 
 /// Zivid's colour of a 3D-only capture.
@@ -48,6 +52,14 @@ pub struct ColourCamera {
     pub white_balance: [f32; 2],
     /// Standard deviation of the noise on each channel before the gain, linear units.
     pub noise: f32,
+    /// The colour camera's centre in the depth camera's frame, m: 0 for the same imager (a
+    /// Zivid's), the RGB camera beside the infrared one for a Kinect. Each pixel takes the
+    /// colour its surface point shows that camera, black where the camera cannot see it (a
+    /// registered colour image's holes).
+    pub offset: [f32; 3],
+    /// Whether the sensor's own light (the projector's flash) lights the colour image: not an
+    /// infrared projector's.
+    pub flash: bool,
 }
 
 impl Default for ColourCamera {
@@ -61,6 +73,8 @@ impl Default for ColourCamera {
             gain: 1.0,
             white_balance: [1.0, 1.0],
             noise: 0.01,
+            offset: [0.0; 3],
+            flash: true,
         }
     }
 }
@@ -96,6 +110,24 @@ impl ColourCamera {
                 "two gains of 0.25 to 8",
             ),
             ("colour.noise", self.noise, 0.0..=1.0, "0 to 1"),
+            (
+                "colour.offset",
+                self.offset[0],
+                -0.5..=0.5,
+                "-0.5 to 0.5 m per axis",
+            ),
+            (
+                "colour.offset",
+                self.offset[1],
+                -0.5..=0.5,
+                "-0.5 to 0.5 m per axis",
+            ),
+            (
+                "colour.offset",
+                self.offset[2],
+                -0.5..=0.5,
+                "-0.5 to 0.5 m per axis",
+            ),
         ];
         super::within(checks)
     }

@@ -595,6 +595,21 @@ pub const PRESETS: [&str; 12] = [
     "ideal",
 ];
 
+/// The Kinect v1's RGB camera, registered to its depth: 2.5 cm from the infrared camera towards
+/// the projector, lit by the room (the infrared pattern does not show), noisier than a Zivid's.
+const KINECT_RGB: ColourCamera = ColourCamera {
+    capture: ColourCapture::TwoDThreeD,
+    monochrome: false,
+    exposure: 0.0,
+    ambient: 0.5,
+    ambient_kelvin: 4000.0,
+    gain: 1.0,
+    white_balance: [1.0, 1.0],
+    noise: 0.02,
+    offset: [0.025, 0.0, 0.0],
+    flash: false,
+};
+
 /// Zivid 2: the camera's and the projector's full resolution.
 const ZIVID_2: ([u32; 2], [f32; 2]) = ([1944, 1200], [1280.0, 720.0]);
 /// Zivid 2+: the camera's and the projector's full resolution.
@@ -777,9 +792,11 @@ impl SensorSpec {
     ///   share and lobe, the diffuse bounce each material's reflectivity, gathered within 5 cm
     ///   (assumed: the places it matters, inside corners and parts on the table, lie within it).
     /// - `blensor-tof`: Blensor's `tof` scanner as the MotorFactory datasets used it: 1280×960,
-    ///   43.6°×34.6°, Gaussian range noise (0.6 mm, the middle of SynMotor's 0.2-1.2 mm).
+    ///   43.6°×34.6°, Gaussian range noise (0.6 mm, the middle of SynMotor's 0.2-1.2 mm); its
+    ///   colour each material's own, unlit, as Blensor records it.
     /// - `kinect-v1`: Blensor's `kinect` parameters: 640×480, 55.64°×43.18°, baseline 0.075 m,
-    ///   0.7-6 m, 1/8 px disparity, 9×9 window; disparity noise 1/6 px as SimKinect (Handa 2014).
+    ///   0.7-6 m, 1/8 px disparity, 9×9 window; disparity noise 1/6 px as SimKinect (Handa 2014);
+    ///   the RGB camera 2.5 cm beside the infrared one, registered to its pixels, lit by the room.
     /// - `ideal`: the Zivid 2+ M60 camera with no noise and no projector.
     ///
     /// # Errors
@@ -880,40 +897,49 @@ impl SensorSpec {
             "zivid-2plus-mr60" => monochrome(zivid(m60(), (0.3, 1.1), 0.6)),
             "zivid-2plus-mr130" => monochrome(zivid(m130(), (0.8, 2.0), 1.3)),
             "zivid-2plus-lr110" => monochrome(zivid(l110(), (0.7, 1.7), 1.1)),
-            "blensor-tof" => spec(
-                name,
-                Intrinsics::from_fov(1280, 960, 43.6, 34.6),
-                Model::TimeOfFlight,
-                Noise {
-                    axial: Axial {
-                        sigma: 6e-4,
-                        ..Axial::default()
-                    },
-                    ..Noise::default()
+            "blensor-tof" => SensorSpec {
+                colour: ColourCamera {
+                    capture: ColourCapture::Flat,
+                    ..ColourCamera::default()
                 },
-                (0.0, 2.0),
-                1.0,
-            ),
-            "kinect-v1" => spec(
-                name,
-                Intrinsics::from_fov(640, 480, 55.64, 43.18),
-                Model::Kinect {
-                    projector: Projector {
-                        baseline: 0.075,
-                        convergence: 2.0,
-                        hfov_deg: 60.0,
-                        vfov_deg: 47.0,
+                ..spec(
+                    name,
+                    Intrinsics::from_fov(1280, 960, 43.6, 34.6),
+                    Model::TimeOfFlight,
+                    Noise {
+                        axial: Axial {
+                            sigma: 6e-4,
+                            ..Axial::default()
+                        },
+                        ..Noise::default()
                     },
-                    disparity_sigma_px: 1.0 / 6.0,
-                    subpixel: 8.0,
-                    window: 9,
-                    window_fraction: 1.0 / 1.5,
-                    inlier_distance: 0.1,
-                },
-                Noise::default(),
-                (0.7, 6.0),
-                1.5,
-            ),
+                    (0.0, 2.0),
+                    1.0,
+                )
+            },
+            "kinect-v1" => SensorSpec {
+                colour: KINECT_RGB,
+                ..spec(
+                    name,
+                    Intrinsics::from_fov(640, 480, 55.64, 43.18),
+                    Model::Kinect {
+                        projector: Projector {
+                            baseline: 0.075,
+                            convergence: 2.0,
+                            hfov_deg: 60.0,
+                            vfov_deg: 47.0,
+                        },
+                        disparity_sigma_px: 1.0 / 6.0,
+                        subpixel: 8.0,
+                        window: 9,
+                        window_fraction: 1.0 / 1.5,
+                        inlier_distance: 0.1,
+                    },
+                    Noise::default(),
+                    (0.7, 6.0),
+                    1.5,
+                )
+            },
             "ideal" => spec(
                 name,
                 m60().0,

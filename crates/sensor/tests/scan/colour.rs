@@ -198,3 +198,56 @@ fn the_flash_casts_shadows_and_shiny_metal_saturates() {
         .count();
     assert!(saturated > 3, "{saturated} saturated pixels on the sphere");
 }
+
+/// Blensor's time-of-flight scanner records each material's own colour, unlit and exact.
+#[test]
+fn the_blensor_tof_records_the_materials_colour_unlit() {
+    let mut plane = facing_plane(1.0);
+    plane.material = lambert([0.8, 0.1, 0.05]);
+    let tof = SensorSpec::preset("blensor-tof").unwrap();
+    let s = scan(&World::new(&[plane]), &tof, &Affine3A::IDENTITY, 2);
+    let want = [0.8f32, 0.1, 0.05].map(render::srgb8);
+    assert!(
+        s.pixels
+            .iter()
+            .filter(|p| p.is_valid())
+            .all(|p| p.rgb == want)
+    );
+}
+
+/// The Kinect's RGB camera sits 2.5 cm beside its infrared camera: the plane behind a sphere
+/// shows it a shadow of its own, where the registered image is black, and the infrared
+/// projector does not light it (a plane's colour is even, the room's light alone).
+#[test]
+fn the_kinects_rgb_camera_beside_the_infrared_one_cannot_see_behind_a_sphere() {
+    let mut plane = facing_plane(1.6);
+    plane.material = lambert([0.5; 3]);
+    let mut ball = sphere(Vec3::new(0.0, 0.0, 1.2), 0.1, 48);
+    ball.material = lambert([0.5; 3]);
+    let kinect = SensorSpec::preset("kinect-v1").unwrap();
+    let s = scan(&World::new(&[plane, ball]), &kinect, &Affine3A::IDENTITY, 4);
+    let on_plane: Vec<&Pixel> = s
+        .pixels
+        .iter()
+        .filter(|p| p.instance == 1 && !p.clean.x.is_nan())
+        .collect();
+    let black = on_plane.iter().filter(|p| p.rgb == [0; 3]).count();
+    // the hidden sliver lies on the sphere's -x side (the RGB camera is at +x)
+    let hidden_x: Vec<f32> = on_plane
+        .iter()
+        .filter(|p| p.rgb == [0; 3])
+        .map(|p| p.clean.x)
+        .collect();
+    assert!(black > 100, "{black} black pixels");
+    assert!(hidden_x.iter().all(|&x| x < 0.0), "hidden at x > 0");
+    let greens: Vec<f64> = on_plane
+        .iter()
+        .filter(|p| p.rgb != [0; 3])
+        .map(|p| linear(p.rgb[1]))
+        .collect();
+    let (mean, sd) = mean_std(&greens);
+    // 0.5 albedo × 0.5 ambient × the 4000 K light's green, the noise alone spreading it
+    let expected = 0.25 * f64::from(kinect.colour.ambient_colour().y);
+    assert!((mean / expected - 1.0).abs() < 0.05, "{mean} vs {expected}");
+    assert!(sd < 2.0 * f64::from(kinect.colour.noise), "{sd}");
+}
