@@ -10,7 +10,7 @@ use sensor::materials::{
     BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, MATTE_GREY, STAINLESS_STEEL,
     WHITE_PLASTIC, ZINC_PLATED_STEEL,
 };
-use sensor::wear::{Mask, Rust, Wear};
+use sensor::wear::{Mask, Rust, Seats, Wear};
 use sensor::{Classes, Material, Target};
 
 use crate::config::{CellConfig, Clamping, Shift, WearConfig, WearMask};
@@ -53,6 +53,7 @@ impl Object {
 /// that no two parts wear alike.
 fn draw_wear(
     p: &Part,
+    motor: &Motor,
     to_world: &Affine3A,
     config: &WearConfig,
     material: &mut Material,
@@ -86,14 +87,29 @@ fn draw_wear(
             (Mask::Addon { threshold }, Vec3::ZERO)
         }
     };
-    (share > 0.0 || dust > 0.0 || grease > 0.0).then(|| Wear {
-        texture: Affine3A::from_translation(offset) * texture(p, to_world),
+    let texture = Affine3A::from_translation(offset) * texture(p, to_world);
+    // a housing rusts only at its screws' seats: about its bolts' heads
+    let seats = (p.kind == PartKind::GearContainer).then(|| {
+        let heads: Vec<Vec3> = motor
+            .attributes
+            .bolts
+            .iter()
+            .map(|b| texture.transform_point3(to_world.transform_point3(b.head_centre)))
+            .collect();
+        Seats::new(&heads, SEAT_RADIUS_CM)
+    });
+    (share > 0.0 || dust > 0.0 || grease > 0.0).then_some(Wear {
+        texture,
         mask,
         rust,
         dust,
         grease,
+        seats,
     })
 }
+
+/// Radius of a screw's seat about its bolt's head, in the housing's texture units (cm).
+const SEAT_RADIUS_CM: f32 = 0.8;
 
 /// World to part `p`'s texture coordinates (motor frame to world `to_world`): the add-on's
 /// object coordinates, centimetres about the part's centre, millimetres on bolts (the add-on
@@ -244,7 +260,14 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
     if config.wear.enabled() {
         let parts = motor.parts.iter().filter(|p| !hidden(p.kind));
         for (o, p) in objects.iter_mut().zip(parts) {
-            o.wear = draw_wear(p, &motor_to_world, &config.wear, &mut o.material, rng);
+            o.wear = draw_wear(
+                p,
+                motor,
+                &motor_to_world,
+                &config.wear,
+                &mut o.material,
+                rng,
+            );
         }
     }
 

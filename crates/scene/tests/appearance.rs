@@ -102,6 +102,7 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
             rust,
             dust: 0.0,
             grease: 0.0,
+            seats: None,
         });
     }
     let c = m.corrosion.as_ref()?;
@@ -118,6 +119,7 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
         rust: rust1,
         dust: 0.0,
         grease: 0.0,
+        seats: None,
     })
 }
 

@@ -444,8 +444,9 @@ fn colour_does_not_give_the_label_away() {
     );
 }
 
-/// Wear drawn per sample: the bolts and the pole pot carry their rust in the cloud's wear
-/// channel, no other part does (dust is not rust), and the same seed draws the same wear.
+/// Wear drawn per sample: the bolts, the pole pot and the gear container's screws' seats carry
+/// their rust in the cloud's wear channel, no other part does (dust is not rust), and the same
+/// seed draws the same wear.
 #[test]
 fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     let mut table = scene::config::builtin_table("default").unwrap();
@@ -453,13 +454,20 @@ fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     scene::set_key(&mut table, "cell.wear.bolts", span.clone()).unwrap();
     scene::set_key(&mut table, "cell.wear.pole_pot", span.clone()).unwrap();
     scene::set_key(&mut table, "cell.wear.dust", span).unwrap();
+    let all = toml::Value::Array(vec![1.0.into(), 1.0.into()]);
+    scene::set_key(&mut table, "cell.wear.screw_seats", all).unwrap();
     scene::set_key(&mut table, "cell.wear.variation", 0.2.into()).unwrap();
     scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
     let config = Config::from_table(&table).unwrap();
     let scheme = config.output.scheme;
     let recipe = Recipe::new(config, Vec::new()).unwrap();
-    let rusting =
-        [PartKind::PolePot, PartKind::SideBolt, PartKind::CoverBolt].map(|k| scheme.id(k) as u16);
+    let rusting = [
+        PartKind::PolePot,
+        PartKind::SideBolt,
+        PartKind::CoverBolt,
+        PartKind::GearContainer,
+    ]
+    .map(|k| scheme.id(k) as u16);
     let sample = scene::make(&recipe, 1).unwrap();
     let cloud = &sample.views[0].cloud;
     let worn = |f: &dyn Fn(u16) -> bool| {
@@ -474,6 +482,9 @@ fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     };
     let on_pot = worn(&|c| c == rusting[0]);
     assert!((0.15..0.75).contains(&on_pot), "pole pot {on_pot}");
+    // the gear container rusts at its screws' seats alone
+    let housing = worn(&|c| c == rusting[3]);
+    assert!((0.001..0.6).contains(&housing), "gear container {housing}");
     assert_eq!(worn(&|c| !rusting.contains(&c)), 0.0);
     let again = scene::make(&recipe, 1).unwrap();
     assert_eq!(again.views[0].cloud.wear, cloud.wear);

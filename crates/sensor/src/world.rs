@@ -235,7 +235,7 @@ impl World {
 
     fn describe(&self, t: f32, triangle: u32, origin: Vec3, dir: Vec3) -> SurfaceHit {
         let info = self.tris[triangle as usize];
-        let surface = self.surfaces[info.target as usize];
+        let surface = &self.surfaces[info.target as usize];
         let normal = if info.normal.dot(dir) > 0.0 {
             -info.normal
         } else {

@@ -79,6 +79,7 @@ impl Config {
             ("cell.wear.bolts", &w.bolts),
             ("cell.wear.pole_pot", &w.pole_pot),
             ("cell.wear.electric_connection", &w.electric_connection),
+            ("cell.wear.screw_seats", &w.screw_seats),
             ("cell.wear.dust", &w.dust),
             ("cell.wear.grease", &w.grease),
         ] {

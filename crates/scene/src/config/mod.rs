@@ -198,6 +198,9 @@ pub struct WearConfig {
     pub pole_pot: Span,
     /// Share of the electric connection's surface rusted, 0..1.
     pub electric_connection: Span,
+    /// Share of the gear container's screws' seats rusted (discs of 8 mm about the bolt
+    /// heads), 0..1.
+    pub screw_seats: Span,
     /// Share of each motor part's surface under dust, 0..1.
     pub dust: Span,
     /// Share of each motor part's surface under grease, 0..1.
@@ -215,6 +218,7 @@ impl WearConfig {
                 self.bolts,
                 self.pole_pot,
                 self.electric_connection,
+                self.screw_seats,
                 self.dust,
                 self.grease,
             ]
@@ -228,6 +232,7 @@ impl WearConfig {
             PartKind::SideBolt | PartKind::CoverBolt => Some(self.bolts),
             PartKind::PolePot => Some(self.pole_pot),
             PartKind::ElectricConnection => Some(self.electric_connection),
+            PartKind::GearContainer => Some(self.screw_seats),
             _ => None,
         }
     }

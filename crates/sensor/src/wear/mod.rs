@@ -91,6 +91,43 @@ pub struct Wear {
     pub dust: f32,
     /// Share of the surface under grease, 0..1, over the rust and the dust.
     pub grease: f32,
+    /// Rust kept to these places (a housing's screws' seats), if only there.
+    pub seats: Option<Seats>,
+}
+
+/// Discs about up to eight points of a surface (its screws' seats), where alone it rusts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seats {
+    centres: [Vec3; Seats::MAX],
+    count: usize,
+    radius: f32,
+}
+
+impl Seats {
+    /// The most seats a surface has.
+    pub const MAX: usize = 8;
+
+    /// Seats about the first [`Seats::MAX`] of `centres` (texture coordinates), of `radius`.
+    pub fn new(centres: &[Vec3], radius: f32) -> Seats {
+        let mut seats = Seats {
+            centres: [Vec3::ZERO; Seats::MAX],
+            count: centres.len().min(Seats::MAX),
+            radius,
+        };
+        seats.centres[..seats.count].copy_from_slice(&centres[..seats.count]);
+        seats
+    }
+
+    /// How much of the rust stays at `q`: 1 within 70 % of the radius of a seat's centre,
+    /// fading to 0 at the radius.
+    fn weight(&self, q: Vec3) -> f32 {
+        let d = self.centres[..self.count]
+            .iter()
+            .map(|c| c.distance(q))
+            .fold(f32::INFINITY, f32::min);
+        let t = ((self.radius - d) / (0.3 * self.radius)).clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
+    }
 }
 
 impl Wear {
@@ -98,7 +135,13 @@ impl Wear {
     /// is clean.
     pub fn at(&self, clean: &Material, p: Vec3) -> Option<(f32, Material)> {
         let q = self.texture.transform_point3(p);
-        let rust = self.mask.share(q);
+        let rust = match &self.seats {
+            Some(seats) => match seats.weight(q) {
+                0.0 => 0.0,
+                w => w * self.mask.share(q),
+            },
+            None => self.mask.share(q),
+        };
         let mut m = (rust > 0.0).then(|| mix(clean, &self.rust.material(q), rust));
         // dirt in patches twice the rust's, each of its own noise
         for (share, offset, dirt) in [

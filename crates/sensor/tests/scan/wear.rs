@@ -1,7 +1,7 @@
 //! Wear as the depth sensor and the colour image see it: rust is dark and matte, dust light and
 //! matte, grease dark.
 
-use ::sensor::wear::{Mask, Rust, Wear};
+use ::sensor::wear::{Mask, Rust, Seats, Wear};
 use ::sensor::*;
 use glam::{Affine3A, Vec3};
 
@@ -27,6 +27,7 @@ fn dirty_pole_pot(share: f32, dust: f32, grease: f32, seed: u64) -> Scan {
         rust: Rust::new(1).unwrap(),
         dust,
         grease,
+        seats: None,
     });
     let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
     scan(&World::new(&[sphere]), &spec, &Affine3A::IDENTITY, seed)
@@ -112,4 +113,39 @@ fn dust_hides_the_highlights_and_grease_darkens_without_counting_as_rust() {
         "dust {dust_green}, grease {grease_green}"
     );
     assert_eq!((dust_wear, grease_wear), (0.0, 0.0));
+}
+
+/// Rust kept to a seat rusts only within the seat's radius of its centre.
+#[test]
+fn a_seat_keeps_the_rust_to_its_disc() {
+    let mut plane = Target::from_triangles(
+        &shapes::rectangle(Vec3::new(0.0, 0.0, 0.6), Vec3::X * 0.1, Vec3::Y * 0.1),
+        2,
+        2,
+        materials::STAINLESS_STEEL,
+    );
+    // centimetres about the plane's centre; one seat of 2 cm at (3 cm, 0)
+    let texture = Affine3A::from_scale(Vec3::splat(100.0))
+        * Affine3A::from_translation(Vec3::new(0.0, 0.0, -0.6));
+    plane.wear = Some(Wear {
+        texture,
+        mask: Mask::Coverage { share: 1.0 },
+        rust: Rust::new(3).unwrap(),
+        dust: 0.0,
+        grease: 0.0,
+        seats: Some(Seats::new(&[Vec3::new(3.0, 0.0, 0.0)], 2.0)),
+    });
+    let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
+    let s = scan(&World::new(&[plane]), &spec, &Affine3A::IDENTITY, 1);
+    let (mut inside, mut outside) = (Vec::new(), Vec::new());
+    for p in s.pixels.iter().filter(|p| p.instance == 2) {
+        let d = (p.clean * 100.0 - Vec3::new(3.0, 0.0, 60.0)).length();
+        if d < 1.3 {
+            inside.push(p.wear);
+        } else if d > 2.05 {
+            outside.push(p.wear);
+        }
+    }
+    assert!(inside.len() > 50 && inside.iter().all(|&w| w == 1.0));
+    assert!(outside.len() > 1000 && outside.iter().all(|&w| w == 0.0));
 }
