@@ -10,7 +10,7 @@ use sensor::materials::{
     BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, MATTE_GREY, STAINLESS_STEEL,
     WHITE_PLASTIC, ZINC_PLATED_STEEL,
 };
-use sensor::wear::{Mask, Rust, Seats, Wear};
+use sensor::wear::{Grain, Mask, Rust, Seats, Wear};
 use sensor::{Classes, Material, Target};
 
 use crate::config::{CellConfig, Clamping, Shift, WearConfig, WearMask};
@@ -47,9 +47,9 @@ impl Object {
     }
 }
 
-/// Wear drawn for part `p` (motor frame to world `to_world`) by `config`: its material varied
-/// within its range, and rust (bolts, pole pot, electric connection), dust and grease with the
-/// part's [`texture`] coordinates, shifted at random by up to 100 units under coverage masks so
+/// Wear drawn for part `p` of `motor` (motor frame to world `to_world`) by `config`: its
+/// material varied within its range, its grain, and rust (bolts, pole pot, electric connection,
+/// the gear container's screws' seats), dust and grease with the part's [`texture`] coordinates, shifted at random by up to 100 units under coverage masks so
 /// that no two parts wear alike.
 fn draw_wear(
     p: &Part,
@@ -98,13 +98,25 @@ fn draw_wear(
             .collect();
         Seats::new(&heads, SEAT_RADIUS_CM)
     });
-    (share > 0.0 || dust > 0.0 || grease > 0.0).then_some(Wear {
+    let grain = match p.kind {
+        _ if !config.grain => Grain::None,
+        PartKind::PolePot => Grain::Drawn,
+        PartKind::GearContainer
+        | PartKind::Cover
+        | PartKind::ElectricConnection
+        | PartKind::LowerGear
+        | PartKind::UpperGear
+        | PartKind::SingleGear => Grain::Moulded,
+        _ => Grain::None,
+    };
+    (share > 0.0 || dust > 0.0 || grease > 0.0 || grain != Grain::None).then_some(Wear {
         texture,
         mask,
         rust,
         dust,
         grease,
         seats,
+        grain,
     })
 }
 

@@ -13,7 +13,7 @@ use motorgen::{Detail, MotorParams, PartKind};
 use palette::color_difference::Ciede2000;
 use palette::{IntoColor, Lab, Srgb};
 use sensor::render::{Lighting, Settings, render};
-use sensor::wear::{Mask, Rust, Wear, coverage_threshold};
+use sensor::wear::{Grain, Mask, Rust, Wear, coverage_threshold};
 use sensor::{Classes, Intrinsics, Material, Target, World, look_at, shapes};
 use serde::Deserialize;
 
@@ -103,6 +103,7 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
             dust: 0.0,
             grease: 0.0,
             seats: None,
+            grain: Grain::None,
         });
     }
     let c = m.corrosion.as_ref()?;
@@ -120,6 +121,7 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
         dust: 0.0,
         grease: 0.0,
         seats: None,
+        grain: Grain::None,
     })
 }
 

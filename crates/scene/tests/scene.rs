@@ -457,6 +457,7 @@ fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     let all = toml::Value::Array(vec![1.0.into(), 1.0.into()]);
     scene::set_key(&mut table, "cell.wear.screw_seats", all).unwrap();
     scene::set_key(&mut table, "cell.wear.variation", 0.2.into()).unwrap();
+    scene::set_key(&mut table, "cell.wear.grain", true.into()).unwrap();
     scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
     let config = Config::from_table(&table).unwrap();
     let scheme = config.output.scheme;

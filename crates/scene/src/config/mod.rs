@@ -208,12 +208,16 @@ pub struct WearConfig {
     /// Each motor part's colour and reflectivity scaled by 1 ± this and its roughness moved by
     /// ± half of it, drawn per part: no two parts of a kind quite alike, 0..0.5.
     pub variation: f32,
+    /// Clean surfaces textured: the pole pot's drawn steel streaked along its axis, the
+    /// plastics' moulded grain.
+    pub grain: bool,
 }
 
 impl WearConfig {
     /// Whether any part may wear (rust, dust, grease or vary).
     pub fn enabled(&self) -> bool {
         self.variation > 0.0
+            || self.grain
             || [
                 self.bolts,
                 self.pole_pot,

@@ -1,9 +1,12 @@
 //! Wear: where rust, dust and grease lie on a surface (masks over its texture coordinates) and
 //! how they change the surface's material for the depth model and the colour image alike.
 
+mod grain;
 mod pattern;
 #[cfg(test)]
 mod tests;
+
+pub use grain::Grain;
 
 use glam::{Affine3A, Vec3};
 use serde::{Deserialize, Serialize};
@@ -93,6 +96,8 @@ pub struct Wear {
     pub grease: f32,
     /// Rust kept to these places (a housing's screws' seats), if only there.
     pub seats: Option<Seats>,
+    /// The clean surface's texture, under the rust and dirt.
+    pub grain: Grain,
 }
 
 /// Discs about up to eight points of a surface (its screws' seats), where alone it rusts.
@@ -135,6 +140,8 @@ impl Wear {
     /// is clean.
     pub fn at(&self, clean: &Material, p: Vec3) -> Option<(f32, Material)> {
         let q = self.texture.transform_point3(p);
+        let grained = self.grain.apply(clean, q);
+        let clean = grained.as_ref().unwrap_or(clean);
         let rust = match &self.seats {
             Some(seats) => match seats.weight(q) {
                 0.0 => 0.0,
@@ -153,7 +160,7 @@ impl Wear {
                 m = Some(mix(m.as_ref().unwrap_or(clean), dirt, cover));
             }
         }
-        m.map(|m| (rust, m))
+        m.or(grained).map(|m| (rust, m))
     }
 }
 
@@ -237,7 +244,7 @@ impl Rust {
     fn material(self, q: Vec3) -> Material {
         let (mean, spread) = self.look();
         let v = fbm(2.0 * q, 3.0, 0.6);
-        let shade = (1.0 + spread * (v - 0.5) / NOISE_SIGMA).max(0.0);
+        let shade = (1.0 + spread * (v - 0.5) / RUST_NOISE_SIGMA).max(0.0);
         Material {
             colour: mean.map(|c| (c * shade).min(1.0)),
             metallic: 1.0,
@@ -249,7 +256,7 @@ impl Rust {
 }
 
 /// Standard deviation of the rust's fractal noise (`fbm(_, 3, 0.6)`, measured).
-const NOISE_SIGMA: f32 = 0.08;
+const RUST_NOISE_SIGMA: f32 = 0.075;
 
 impl TryFrom<u8> for Rust {
     type Error = String;

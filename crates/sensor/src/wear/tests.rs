@@ -75,3 +75,27 @@ fn the_addon_mask_and_its_stages_are_blenders() {
     let share = agreement("mask", |p| Vec3::splat(mask.share(p)));
     assert!(share > 0.99, "{share}");
 }
+
+/// The deviations the rust's and the grain's noises are scaled by are the noises' own.
+#[test]
+fn the_noises_deviations_are_measured() {
+    for (detail, roughness, sigma) in [
+        (3.0f32, 0.6f32, super::RUST_NOISE_SIGMA),
+        (2.0, 0.5, super::grain::NOISE_SIGMA),
+    ] {
+        let v: Vec<f64> = (0..100_000u32)
+            .map(|k| {
+                let (i, j, l) = (k % 47, (k / 47) % 47, k / 2209);
+                let p = Vec3::new(i as f32 * 0.731, j as f32 * 0.517, l as f32 * 0.613);
+                f64::from(super::pattern::fbm(p, detail, roughness))
+            })
+            .collect();
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        let s = (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / v.len() as f64).sqrt();
+        assert!((m - 0.5).abs() < 0.005, "{m}");
+        assert!(
+            (s / f64::from(sigma) - 1.0).abs() < 0.03,
+            "{detail}: {s} vs {sigma}"
+        );
+    }
+}

@@ -1,7 +1,7 @@
 //! Wear as the depth sensor and the colour image see it: rust is dark and matte, dust light and
 //! matte, grease dark.
 
-use ::sensor::wear::{Mask, Rust, Seats, Wear};
+use ::sensor::wear::{Grain, Mask, Rust, Seats, Wear};
 use ::sensor::*;
 use glam::{Affine3A, Vec3};
 
@@ -28,6 +28,7 @@ fn dirty_pole_pot(share: f32, dust: f32, grease: f32, seed: u64) -> Scan {
         dust,
         grease,
         seats: None,
+        grain: Grain::None,
     });
     let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
     scan(&World::new(&[sphere]), &spec, &Affine3A::IDENTITY, seed)
@@ -134,6 +135,7 @@ fn a_seat_keeps_the_rust_to_its_disc() {
         dust: 0.0,
         grease: 0.0,
         seats: Some(Seats::new(&[Vec3::new(3.0, 0.0, 0.0)], 2.0)),
+        grain: Grain::None,
     });
     let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
     let s = scan(&World::new(&[plane]), &spec, &Affine3A::IDENTITY, 1);
@@ -148,4 +150,47 @@ fn a_seat_keeps_the_rust_to_its_disc() {
     }
     assert!(inside.len() > 50 && inside.iter().all(|&w| w == 1.0));
     assert!(outside.len() > 1000 && outside.iter().all(|&w| w == 0.0));
+}
+
+/// Drawn steel's streaks run along the texture's z: neighbouring pixels across them differ,
+/// along them hardly.
+#[test]
+fn drawn_steel_is_streaked_along_its_axis() {
+    let mut plane = Target::from_triangles(
+        &shapes::rectangle(Vec3::new(0.0, 0.0, 0.6), Vec3::X * 0.1, Vec3::Y * 0.1),
+        2,
+        2,
+        materials::STAINLESS_STEEL,
+    );
+    // centimetres, the streaks' axis (texture z) along the camera's y
+    let texture = Affine3A::from_scale(Vec3::splat(100.0))
+        * Affine3A::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    plane.wear = Some(Wear {
+        texture,
+        mask: Mask::Coverage { share: 0.0 },
+        rust: Rust::new(1).unwrap(),
+        dust: 0.0,
+        grease: 0.0,
+        seats: None,
+        grain: Grain::Drawn,
+    });
+    let mut spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
+    spec.colour.noise = 0.0;
+    let s = scan(&World::new(&[plane]), &spec, &Affine3A::IDENTITY, 1);
+    let w = s.width as usize;
+    let green = |k: usize| f64::from(s.pixels[k].rgb[1]);
+    let (mut across, mut along, mut n) = (0.0, 0.0, 0);
+    for k in 0..s.pixels.len() - w - 1 {
+        let near = [k, k + 1, k + w].iter().all(|&i| {
+            let p = &s.pixels[i];
+            p.instance == 2 && p.clean.x.abs() < 0.02 && p.clean.y.abs() < 0.02
+        });
+        if near {
+            across += (green(k + 1) - green(k)).abs();
+            along += (green(k + w) - green(k)).abs();
+            n += 1;
+        }
+    }
+    assert!(n > 1000, "{n} pixels");
+    assert!(across > 3.0 * along, "across {across}, along {along}");
 }
