@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 use glam::Vec3;
 use motorgen::{PartKind, Scheme};
+use sensor::wear::{Grain, Mask, Wear};
 use sensor::{Frame, Material, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
@@ -69,8 +70,51 @@ pub struct ObjectJson {
     pub class: u8,
     /// Part kind, for motor parts.
     pub part: Option<PartKind>,
-    /// Surface material.
+    /// Surface material (as varied by `cell.wear.variation`).
     pub material: Material,
+    /// The wear drawn for it, when it has some.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wear: Option<WearJson>,
+}
+
+/// The wear drawn for one object (`cell.wear`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WearJson {
+    /// Share of its surface rusted, under the coverage mask.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rust: Option<f32>,
+    /// The first stop of the noise's ramp (percent / 250-400), under the add-on's mask.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub addon_threshold: Option<f32>,
+    /// The add-on's rust texture, 1 to 9.
+    pub rust_type: u8,
+    /// Share under dust.
+    pub dust: f32,
+    /// Share under grease.
+    pub grease: f32,
+    /// Texture of the clean surface.
+    pub grain: Grain,
+    /// Rust kept to the screws' seats.
+    pub seats_only: bool,
+}
+
+impl WearJson {
+    /// What a sample's JSON says of `w`.
+    pub fn of(w: &Wear) -> WearJson {
+        let (rust, addon_threshold) = match w.mask {
+            Mask::Coverage { share } => (Some(share), None),
+            Mask::Addon { threshold } => (None, Some(threshold)),
+        };
+        WearJson {
+            rust,
+            addon_threshold,
+            rust_type: w.rust.number(),
+            dust: w.dust,
+            grease: w.grease,
+            grain: w.grain,
+            seats_only: w.seats.is_some(),
+        }
+    }
 }
 
 /// The crop cuboid.

@@ -16,7 +16,7 @@ use crate::cell::{Cell, Variation, compose, transform_box, turned_with_motor};
 use crate::config::{Clamping, Colouring, Config, CropConfig, Variant};
 use crate::coverage::{Surface, overlap};
 use crate::error::Result;
-use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson};
+use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
 use crate::rig::camera_poses;
 
 thread_local! {
@@ -476,6 +476,7 @@ impl Sample {
                 class: o.part.map_or(0, |k| out.scheme.id(k)),
                 part: o.part,
                 material: o.material,
+                wear: o.wear.as_ref().map(WearJson::of),
             })
             .collect();
         SampleJson {

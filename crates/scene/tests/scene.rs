@@ -487,6 +487,16 @@ fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     let housing = worn(&|c| c == rusting[3]);
     assert!((0.001..0.6).contains(&housing), "gear container {housing}");
     assert_eq!(worn(&|c| !rusting.contains(&c)), 0.0);
+    // the sample's JSON says what was drawn
+    let json = sample.json(&recipe, &[Vec::new()]);
+    for o in &json.objects {
+        let rust = o.wear.as_ref().and_then(|w| w.rust);
+        match o.part {
+            Some(PartKind::PolePot) => assert!(rust.is_some_and(|r| (0.3..=0.6).contains(&r))),
+            None => assert!(o.wear.is_none(), "{}", o.name),
+            _ => {}
+        }
+    }
     let again = scene::make(&recipe, 1).unwrap();
     assert_eq!(again.views[0].cloud.wear, cloud.wear);
     assert_eq!(again.views[0].cloud.rgb, cloud.rgb);
