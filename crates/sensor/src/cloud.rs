@@ -68,7 +68,7 @@ pub struct PointCloud {
     pub class: Vec<u16>,
     /// Instance id.
     pub instance: Vec<u32>,
-    /// Share of rust under the point, 0..1.
+    /// Share of rust under the point, 0..1 in steps of 1/255.
     pub wear: Vec<f32>,
 }
 
@@ -226,6 +226,6 @@ impl<'a> Columns<'a> {
         self.snr[k] = p.snr;
         self.class[k] = p.class;
         self.instance[k] = p.instance;
-        self.wear[k] = p.wear;
+        self.wear[k] = f32::from(p.wear) / 255.0;
     }
 }

@@ -132,11 +132,7 @@ pub fn write_rgb_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
 ///
 /// Any error of writing to `w`.
 pub fn write_wear_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
-    let data: Vec<u8> = scan
-        .pixels
-        .iter()
-        .map(|p| (p.wear * 255.0).round() as u8)
-        .collect();
+    let data: Vec<u8> = scan.pixels.iter().map(|p| p.wear).collect();
     png(
         w,
         scan,

@@ -91,7 +91,7 @@ pub(super) fn illuminate(
         normal,
         class: hit.class,
         instance: hit.instance,
-        wear: hit.wear,
+        wear: (hit.wear * 255.0).round() as u8,
         // the cosine for now: `finish_row` turns a row's cosines into angles in one tight loop
         incidence: normal.dot(-centre).clamp(-1.0, 1.0),
         ..Pixel::EMPTY

@@ -61,8 +61,9 @@ pub struct Pixel {
     pub snr: f32,
     /// Angle between the surface normal and the direction to the camera, radians.
     pub incidence: f32,
-    /// Share of rust on the surface the centre ray meets, 0..1 (0 where it meets none).
-    pub wear: f32,
+    /// Share of rust on the surface the centre ray meets, 0..255 for 0..1 (0 where it meets
+    /// none): a byte, which keeps a pixel within 60 bytes.
+    pub wear: u8,
 }
 
 impl Pixel {
@@ -77,7 +78,7 @@ impl Pixel {
         rgb: [0; 3],
         snr: 0.0,
         incidence: f32::NAN,
-        wear: 0.0,
+        wear: 0,
     };
 
     /// Whether the sensor returned a point.

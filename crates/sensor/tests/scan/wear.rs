@@ -42,7 +42,7 @@ fn statistics(s: &Scan) -> (f64, f64, f64, f64) {
     let lost = on.iter().filter(|p| !p.is_valid()).count() as f64 / n;
     let valid: Vec<&&Pixel> = on.iter().filter(|p| p.is_valid()).collect();
     let snr = valid.iter().map(|p| f64::from(p.snr)).sum::<f64>() / valid.len() as f64;
-    let wear = on.iter().map(|p| f64::from(p.wear)).sum::<f64>() / n;
+    let wear = on.iter().map(|p| f64::from(p.wear) / 255.0).sum::<f64>() / n;
     let green = on.iter().map(|p| f64::from(p.rgb[1])).sum::<f64>() / n;
     (lost, snr, wear, green)
 }
@@ -79,9 +79,9 @@ fn the_wear_channel_is_the_share_of_rust_and_follows_the_coverage() {
         s.pixels
             .iter()
             .filter(|p| p.instance == 0)
-            .map(|p| p.wear)
-            .sum::<f32>(),
-        0.0
+            .map(|p| u32::from(p.wear))
+            .sum::<u32>(),
+        0
     );
 }
 
@@ -148,8 +148,8 @@ fn a_seat_keeps_the_rust_to_its_disc() {
             outside.push(p.wear);
         }
     }
-    assert!(inside.len() > 50 && inside.iter().all(|&w| w == 1.0));
-    assert!(outside.len() > 1000 && outside.iter().all(|&w| w == 0.0));
+    assert!(inside.len() > 50 && inside.iter().all(|&w| w == 255));
+    assert!(outside.len() > 1000 && outside.iter().all(|&w| w == 0));
 }
 
 /// Drawn steel's streaks run along the texture's z: neighbouring pixels across them differ,
