@@ -79,8 +79,8 @@ fn draw_wear(
             // the add-on's divisor of the percent, by the percent
             let percent = 100.0 * share;
             let divisor = match percent {
-                p if p < 50.0 => rng.random_range(250..280),
-                p if p <= 95.0 => rng.random_range(300..400),
+                x if x < 50.0 => rng.random_range(250..280),
+                x if x <= 95.0 => rng.random_range(300..400),
                 _ => rng.random_range(280..300),
             };
             let threshold = percent / divisor as f32;
@@ -263,25 +263,19 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => !vary.cover_removed,
         _ => false,
     };
+    let wear = &config.wear;
     let mut objects: Vec<Object> = motor
         .parts
         .iter()
         .filter(|p| !hidden(p.kind))
-        .map(|p| Object::part(p, &motor_to_world))
+        .map(|p| {
+            let mut o = Object::part(p, &motor_to_world);
+            if wear.enabled() {
+                o.wear = draw_wear(p, motor, &motor_to_world, wear, &mut o.material, rng);
+            }
+            o
+        })
         .collect();
-    if config.wear.enabled() {
-        let parts = motor.parts.iter().filter(|p| !hidden(p.kind));
-        for (o, p) in objects.iter_mut().zip(parts) {
-            o.wear = draw_wear(
-                p,
-                motor,
-                &motor_to_world,
-                &config.wear,
-                &mut o.material,
-                rng,
-            );
-        }
-    }
 
     let grip = gripped(vary.clamping);
     let held = motor

@@ -13,7 +13,7 @@ use motorgen::{Detail, MotorParams, PartKind};
 use palette::color_difference::Ciede2000;
 use palette::{IntoColor, Lab, Srgb};
 use sensor::render::{Lighting, Settings, render};
-use sensor::wear::{Grain, Mask, Rust, Wear, coverage_threshold};
+use sensor::wear::{Mask, Rust, Wear, coverage_threshold};
 use sensor::{Classes, Intrinsics, Material, Target, World, look_at, shapes};
 use serde::Deserialize;
 
@@ -96,15 +96,12 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
         // the oracle's nodes are built from these: they must be ours
         assert!((w.threshold - coverage_threshold(w.share)).abs() < 1e-6);
         assert_eq!((w.colour, w.spread), rust.look());
-        return w.parts.iter().any(|p| p == g).then_some(Wear {
-            texture,
-            mask: Mask::Coverage { share: w.share },
-            rust,
-            dust: 0.0,
-            grease: 0.0,
-            seats: None,
-            grain: Grain::None,
-        });
+        let mask = Mask::Coverage { share: w.share };
+        return w
+            .parts
+            .iter()
+            .any(|p| p == g)
+            .then_some(Wear::new(texture, mask, rust));
     }
     let c = m.corrosion.as_ref()?;
     let percent = match g {
@@ -112,17 +109,8 @@ fn wear(m: &MotorSpec, part: &motorgen::Part) -> Option<Wear> {
         "pole pot" => c.pole_pot_percent,
         _ => return None,
     };
-    Some(Wear {
-        texture,
-        mask: Mask::Addon {
-            threshold: percent / ADDON_DIVISOR,
-        },
-        rust: rust1,
-        dust: 0.0,
-        grease: 0.0,
-        seats: None,
-        grain: Grain::None,
-    })
+    let threshold = percent / ADDON_DIVISOR;
+    Some(Wear::new(texture, Mask::Addon { threshold }, rust1))
 }
 
 /// The comparison's name for a part of ours (the add-on's objects are grouped alike).

@@ -19,6 +19,8 @@ pub(super) struct Response {
     gain: Vec3,
     /// The ambient light's radiance on a white surface, per channel.
     ambient: Vec3,
+    /// The colour camera's centre in the depth camera's frame, if it is not the same imager.
+    pub(super) offset: Option<Vec3>,
     camera: ColourCamera,
 }
 
@@ -31,17 +33,12 @@ pub(super) struct SurfaceLight {
 }
 
 impl Response {
-    /// The colour camera's centre in the depth camera's frame, if it is not the same imager.
-    pub(super) fn offset(&self) -> Option<Vec3> {
-        let offset = Vec3::from(self.camera.offset);
-        (offset != Vec3::ZERO).then_some(offset)
-    }
-
     pub(super) fn new(camera: &ColourCamera) -> Response {
         let [red, blue] = camera.white_balance;
         Response {
             gain: Vec3::new(red, 1.0, blue) * camera.gain,
             ambient: camera.ambient_colour() * camera.ambient,
+            offset: Some(Vec3::from(camera.offset)).filter(|o| *o != Vec3::ZERO),
             camera: *camera,
         }
     }

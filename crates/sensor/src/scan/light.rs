@@ -103,7 +103,7 @@ pub(super) fn illuminate(
     let material = hit.material;
     // the colour camera's view of the point: this camera's, or one beside it that may not see
     // it (then the pixel records black)
-    let (wo, seen_by_colour) = match setup.colour.offset() {
+    let (wo, seen_by_colour) = match setup.colour.offset {
         None => (-centre, true),
         Some(offset) => {
             let to = offset - surface;

@@ -80,7 +80,8 @@ pub fn coverage_threshold(q: f32) -> f32 {
 
 static QUANTILES: std::sync::OnceLock<Vec<f32>> = std::sync::OnceLock::new();
 
-/// Corrosion on one surface: where the rust lies and which rust it is.
+/// Wear of one surface: where rust lies and which rust it is, dust and grease over it, and the
+/// clean surface's grain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wear {
     /// World to the surface's texture coordinates (for a motor's part, the add-on's object
@@ -136,6 +137,20 @@ impl Seats {
 }
 
 impl Wear {
+    /// Rust of type `rust` where `mask` lays it over the texture coordinates `texture` gives:
+    /// no dirt, no grain, no seats.
+    pub fn new(texture: Affine3A, mask: Mask, rust: Rust) -> Wear {
+        Wear {
+            texture,
+            mask,
+            rust,
+            dust: 0.0,
+            grease: 0.0,
+            seats: None,
+            grain: Grain::None,
+        }
+    }
+
     /// The share of rust at world point `p` and `clean` worn there, or `None` where the surface
     /// is clean.
     pub fn at(&self, clean: &Material, p: Vec3) -> Option<(f32, Material)> {

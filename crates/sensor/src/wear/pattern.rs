@@ -144,21 +144,21 @@ pub(crate) fn voronoi_colour(p: Vec3) -> Vec3 {
     let base = p.floor();
     let local = p - base;
     let c = [base.x as i32, base.y as i32, base.z as i32];
-    let (mut best, mut nearest) = (f32::MAX, c);
+    // a cell's colour is its point's offset within it: one hash gives both
+    let (mut best, mut colour) = (f32::MAX, Vec3::ZERO);
     for k in -1..=1 {
         for j in -1..=1 {
             for i in -1..=1 {
-                let n = [c[0] + i, c[1] + j, c[2] + k];
-                let point = Vec3::new(i as f32, j as f32, k as f32) + cell(n);
-                let d = point.distance(local);
+                let hash = cell([c[0] + i, c[1] + j, c[2] + k]);
+                let d = (Vec3::new(i as f32, j as f32, k as f32) + hash).distance(local);
                 if d < best {
                     best = d;
-                    nearest = n;
+                    colour = hash;
                 }
             }
         }
     }
-    cell(nearest)
+    colour
 }
 
 /// Scene-linear Rec. 709 luminance: how Cycles turns a colour into a float.

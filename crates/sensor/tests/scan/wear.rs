@@ -19,16 +19,13 @@ fn dirty_pole_pot(share: f32, dust: f32, grease: f32, seed: u64) -> Scan {
         2,
         materials::STAINLESS_STEEL,
     );
+    // centimetres about the sphere's centre, as a motor part's
+    let texture = Affine3A::from_scale(Vec3::splat(100.0))
+        * Affine3A::from_translation(Vec3::new(0.0, 0.0, -0.55));
     sphere.wear = (share + dust + grease > 0.0).then(|| Wear {
-        // centimetres about the sphere's centre, as a motor part's
-        texture: Affine3A::from_scale(Vec3::splat(100.0))
-            * Affine3A::from_translation(Vec3::new(0.0, 0.0, -0.55)),
-        mask: Mask::Coverage { share },
-        rust: Rust::new(1).unwrap(),
         dust,
         grease,
-        seats: None,
-        grain: Grain::None,
+        ..Wear::new(texture, Mask::Coverage { share }, Rust::new(1).unwrap())
     });
     let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
     scan(&World::new(&[sphere]), &spec, &Affine3A::IDENTITY, seed)
@@ -116,26 +113,30 @@ fn dust_hides_the_highlights_and_grease_darkens_without_counting_as_rust() {
     assert_eq!((dust_wear, grease_wear), (0.0, 0.0));
 }
 
-/// Rust kept to a seat rusts only within the seat's radius of its centre.
-#[test]
-fn a_seat_keeps_the_rust_to_its_disc() {
-    let mut plane = Target::from_triangles(
+/// A stainless-steel square of 20 cm facing the camera 0.6 m away, instance 2.
+fn steel_plane() -> Target {
+    Target::from_triangles(
         &shapes::rectangle(Vec3::new(0.0, 0.0, 0.6), Vec3::X * 0.1, Vec3::Y * 0.1),
         2,
         2,
         materials::STAINLESS_STEEL,
-    );
+    )
+}
+
+/// Rust kept to a seat rusts only within the seat's radius of its centre.
+#[test]
+fn a_seat_keeps_the_rust_to_its_disc() {
+    let mut plane = steel_plane();
     // centimetres about the plane's centre; one seat of 2 cm at (3 cm, 0)
     let texture = Affine3A::from_scale(Vec3::splat(100.0))
         * Affine3A::from_translation(Vec3::new(0.0, 0.0, -0.6));
     plane.wear = Some(Wear {
-        texture,
-        mask: Mask::Coverage { share: 1.0 },
-        rust: Rust::new(3).unwrap(),
-        dust: 0.0,
-        grease: 0.0,
         seats: Some(Seats::new(&[Vec3::new(3.0, 0.0, 0.0)], 2.0)),
-        grain: Grain::None,
+        ..Wear::new(
+            texture,
+            Mask::Coverage { share: 1.0 },
+            Rust::new(3).unwrap(),
+        )
     });
     let spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
     let s = scan(&World::new(&[plane]), &spec, &Affine3A::IDENTITY, 1);
@@ -156,23 +157,17 @@ fn a_seat_keeps_the_rust_to_its_disc() {
 /// along them hardly.
 #[test]
 fn drawn_steel_is_streaked_along_its_axis() {
-    let mut plane = Target::from_triangles(
-        &shapes::rectangle(Vec3::new(0.0, 0.0, 0.6), Vec3::X * 0.1, Vec3::Y * 0.1),
-        2,
-        2,
-        materials::STAINLESS_STEEL,
-    );
+    let mut plane = steel_plane();
     // centimetres, the streaks' axis (texture z) along the camera's y
     let texture = Affine3A::from_scale(Vec3::splat(100.0))
         * Affine3A::from_rotation_x(std::f32::consts::FRAC_PI_2);
     plane.wear = Some(Wear {
-        texture,
-        mask: Mask::Coverage { share: 0.0 },
-        rust: Rust::new(1).unwrap(),
-        dust: 0.0,
-        grease: 0.0,
-        seats: None,
         grain: Grain::Drawn,
+        ..Wear::new(
+            texture,
+            Mask::Coverage { share: 0.0 },
+            Rust::new(1).unwrap(),
+        )
     });
     let mut spec = SensorSpec::preset("zivid-2plus-m60").unwrap().binned(4);
     spec.colour.noise = 0.0;
