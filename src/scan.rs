@@ -31,7 +31,8 @@ pub struct ScanCmd {
     #[arg(long, default_value = "0,0,1", allow_hyphen_values = true)]
     up: String,
     /// Which pixels make a point, by Zivid's names: all, by2x2 or by4x4 (each 2×2 or 4×4 block
-    /// summed into one).
+    /// summed into one), blueSubsample2x2 or redSubsample2x2 (one colour's pixel of each 2×2
+    /// block, under the projector's light of that colour).
     #[arg(long, default_value = "all")]
     sampling: String,
     /// Cloud formats, comma-separated: ply, pcd, pcd-ascii, npy (SynMotor N×7), npz.
@@ -79,7 +80,9 @@ impl ScanCmd {
             .sampling
             .parse()
             .map_err(|e| CliError::Usage(format!("--{e}")))?;
-        let spec = spec.binned(sampling.factor());
+        let spec = spec
+            .sampled(sampling)
+            .map_err(|e| CliError::Usage(format!("--{e}")))?;
         spec.validate()
             .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
         // each mesh file and its material: FILE@MATERIAL, or FILE with --material's (a file

@@ -550,7 +550,23 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
                 "--out",
                 o_str,
             ],
-            "--sampling = \"by3x3\" is not allowed: expected one of all, by2x2, by4x4",
+            "--sampling = \"by3x3\" is not allowed: expected one of all, by2x2, by4x4, blueSubsample2x2",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--look-at",
+                la,
+                "--sensor",
+                "zivid-2plus-mr60",
+                "--sampling",
+                "blueSubsample2x2",
+                "--out",
+                o_str,
+            ],
+            "--sampling = \"blueSubsample2x2\" is not allowed: expected all, by2x2 or by4x4 on zivid-2plus-mr60",
         ),
     ];
     assert_refused(&cases, &out);

@@ -47,5 +47,5 @@ pub use kernel::Detail;
 pub use labels::Scheme;
 pub use model::{Attributes, Motor, Part, PartClass, PartKind};
 pub use params::MotorParams;
-pub use parts::build;
+pub use parts::{ArmatureLayout, armature_layout, build};
 pub use space::{Dist, ParamSpace, derive_seed};

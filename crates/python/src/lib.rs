@@ -490,8 +490,8 @@ fn targets(mesh: &Bound<'_, PyAny>, material: Material, offset: u32) -> PyResult
 
 /// Scans `meshes` (file paths, or (vertices, triangles, class, instance) tuples, in metres)
 /// with `sensor` (a preset or a sensor TOML file) from a camera at `eye` looking at `target`,
-/// `up` up, as `motorfactory scan` does; `sampling` is `all`, `by2x2` or `by4x4`, `material`
-/// a name from the material library.
+/// `up` up, as `motorfactory scan` does; `sampling` is one of Zivid's (`all`, `by2x2`, `by4x4`,
+/// `blueSubsample2x2`, `redSubsample2x2`), `material` a name from the material library.
 #[pyfunction]
 #[pyo3(signature = (meshes, sensor = "zivid-2plus-m130", eye = (0.0, -0.6, 0.6), target = (0.0, 0.0, 0.0), up = (0.0, 0.0, 1.0), seed = 0, sampling = "all", material = "grey-plastic"))]
 #[allow(clippy::too_many_arguments)]
@@ -513,7 +513,9 @@ fn scan(
     let sampling: sensor::Sampling = sampling
         .parse()
         .map_err(|e| PyValueError::new_err(format!("{e}")))?;
-    let spec = spec.binned(sampling.factor());
+    let spec = spec
+        .sampled(sampling)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     spec.validate()
         .map_err(|e| PyValueError::new_err(format!("sensor {sensor}: {e}")))?;
     let material = Material::named(material).map_err(|e| PyValueError::new_err(e.to_string()))?;

@@ -10,7 +10,7 @@ use sensor::materials::{
     BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, MATTE_GREY, STAINLESS_STEEL,
     WHITE_PLASTIC, ZINC_PLATED_STEEL,
 };
-use sensor::wear::{Grain, Mask, Rust, Seats, Wear};
+use sensor::wear::{Armature, Grain, Mask, Rust, Seats, Wear};
 use sensor::{Classes, Material, Target};
 
 use crate::config::{CellConfig, Clamping, Shift, WearConfig, WearMask};
@@ -117,6 +117,31 @@ fn draw_wear(
         grease,
         seats,
         grain,
+    })
+}
+
+/// The armature of `motor` (motor frame to world `to_world`) as an object: its shaft, lamination
+/// stack, windings and commutator each its own material and texture (the windings' the
+/// add-on's).
+pub fn armature(motor: &Motor, to_world: &Affine3A) -> Option<Object> {
+    let p = motor.parts.iter().find(|p| p.kind == PartKind::Armature)?;
+    let a = motorgen::armature_layout(&motor.params);
+    let texture = texture(p, to_world);
+    let to_texture = texture * *to_world;
+    let at = |z: f32| to_texture.transform_point3(Vec3::new(0.0, 0.0, z));
+    let units = to_texture.transform_vector3(Vec3::X).length();
+    let axis = at(0.0);
+    let surfaces = Armature {
+        axis: [axis.x, axis.y],
+        shaft_radius: a.shaft_radius * units,
+        core_radius: a.core_radius * units,
+        core: a.core.map(|z| at(z).z),
+        commutator: a.commutator.map(|z| at(z).z),
+        bars: a.coils,
+    };
+    Some(Object {
+        wear: Some(Wear::clean(texture, Grain::Armature(surfaces))),
+        ..Object::part(p, to_world)
     })
 }
 

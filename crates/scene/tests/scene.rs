@@ -501,3 +501,65 @@ fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     assert_eq!(again.views[0].cloud.wear, cloud.wear);
     assert_eq!(again.views[0].cloud.rgb, cloud.rgb);
 }
+
+/// An armature's object shows its shaft, lamination stack, windings and commutator where its
+/// mesh has them, each its material: the winding packs (the shells beyond the core) copper,
+/// the core grey steel, wherever the motor stands in the world.
+#[test]
+fn an_armature_shows_its_shaft_laminations_windings_and_commutator() {
+    use sensor::wear::{ArmatureSurface, Grain};
+    let params = ParamSpace::addon().sample(derive_seed(7, 3)).unwrap();
+    let motor = build(&params, Detail::Coarse);
+    let layout = motorgen::armature_layout(&params);
+    let to_world = glam::Affine3A::from_rotation_translation(
+        glam::Quat::from_euler(glam::EulerRot::XYZ, 0.4, -1.1, 0.3),
+        Vec3::new(0.2, -0.1, 0.05),
+    );
+    let object = scene::cell::armature(&motor, &to_world).unwrap();
+    let wear = object.wear.unwrap();
+    let Grain::Armature(surfaces) = wear.grain else {
+        panic!("{:?}", wear.grain)
+    };
+    let from_world = to_world.inverse();
+    let mut area = std::collections::HashMap::new();
+    let m = &object.mesh;
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|i| m.positions[i as usize]);
+        let centre = (a + b + c) / 3.0;
+        let surface = surfaces.surface(wear.texture.transform_point3(centre));
+        *area.entry(surface).or_insert(0.0) += 0.5 * (b - a).cross(c - a).length();
+        // the packs alone lie beyond the core
+        let local = from_world.transform_point3(centre);
+        let beyond = [a, b, c]
+            .map(|p| from_world.transform_point3(p).truncate().length())
+            .iter()
+            .all(|&r| r > layout.core_radius + 5e-5);
+        assert_eq!(surface == ArmatureSurface::Windings, beyond, "{local}");
+        if surface == ArmatureSurface::Commutator {
+            let [lo, hi] = layout.commutator;
+            assert!((lo - 1e-4..=hi + 1e-4).contains(&local.z), "{local}");
+        }
+        // the surface's material: copper windings and commutator, grey steel elsewhere
+        let (_, material) = wear.at(&object.material, centre).unwrap();
+        let [r, g, b] = material.colour;
+        let coppery = r > 1.3 * g && g > b;
+        let grey = (r - b).abs() < 0.1 * r.max(0.02);
+        match surface {
+            ArmatureSurface::Windings => assert!(coppery, "{:?}", material.colour),
+            ArmatureSurface::Shaft | ArmatureSurface::Laminations => {
+                assert!(grey, "{surface:?}: {:?}", material.colour)
+            }
+            ArmatureSurface::Commutator => assert!(coppery || r < 0.1, "{:?}", material.colour),
+        }
+    }
+    let total: f32 = area.values().sum();
+    for s in [
+        ArmatureSurface::Shaft,
+        ArmatureSurface::Laminations,
+        ArmatureSurface::Windings,
+        ArmatureSurface::Commutator,
+    ] {
+        let share = area.get(&s).copied().unwrap_or(0.0) / total;
+        assert!(share > 0.01, "{s:?}: {share}");
+    }
+}

@@ -175,16 +175,24 @@ impl Intrinsics {
         Ok(())
     }
 
-    /// The camera with `factor`×`factor` pixels binned into one (1, 2 or 4 on Zivid cameras).
+    /// The camera with `factor`×`factor` pixels binned into one (1, 2 or 4 on Zivid cameras):
+    /// each new pixel centred on its block.
     pub fn binned(&self, factor: u32) -> Intrinsics {
+        self.sampled(factor, (factor as f64 - 1.0) / 2.0)
+    }
+
+    /// The camera that keeps one pixel position of each `factor`×`factor` block: the one
+    /// `offset` pixels from the block's first along each axis (Zivid's pixel mapping: 0 for the
+    /// blue pixel of a 2×2 Bayer block, 1 for the red one, ½ for the block's centre).
+    pub fn sampled(&self, factor: u32, offset: f64) -> Intrinsics {
         let f = factor as f64;
         Intrinsics {
             width: self.width / factor,
             height: self.height / factor,
             fx: self.fx / f,
             fy: self.fy / f,
-            cx: (self.cx + 0.5) / f - 0.5,
-            cy: (self.cy + 0.5) / f - 0.5,
+            cx: (self.cx - offset) / f,
+            cy: (self.cy - offset) / f,
             distortion: self.distortion,
         }
     }

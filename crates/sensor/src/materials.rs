@@ -38,6 +38,8 @@ pub const STAINLESS_STEEL: Material = mat(0.45, 0.6, 0.15, [0.45, 0.45, 0.47], 1
 pub const ALUMINIUM: Material = mat(0.6, 0.4, 0.15, [0.6, 0.6, 0.62], 1.0, 0.3);
 /// Blue anodised aluminium (fixture jaws).
 pub const ANODISED_ALUMINIUM: Material = mat(0.3, 0.1, 0.25, [0.06, 0.16, 0.45], 0.0, 0.4);
+/// Electrical steel of an armature's lamination stack: grey, a dull sheen.
+pub const ELECTRICAL_STEEL: Material = mat(0.35, 0.3, 0.25, [0.36, 0.36, 0.38], 1.0, 0.4);
 /// Enamelled copper windings.
 pub const COPPER: Material = mat(0.5, 0.5, 0.2, [0.66, 0.42, 0.26], 1.0, 0.3);
 /// Rusted steel: dark brown and matte.
@@ -50,7 +52,7 @@ pub const LAMINATE: Material = mat(0.55, 0.0, 0.2, [0.55; 3], 0.0, 0.6);
 pub const MATTE_GREY: Material = mat(0.5, 0.0, 0.2, [0.5; 3], 0.0, 0.8);
 
 /// The named materials: the library `scan --mesh FILE@NAME` and [`Material::named`] draw on.
-pub const MATERIALS: [(&str, Material); 12] = [
+pub const MATERIALS: [(&str, Material); 13] = [
     ("black-pa66", BLACK_PA66),
     ("white-plastic", WHITE_PLASTIC),
     ("grey-plastic", GREY_PLASTIC),
@@ -59,6 +61,7 @@ pub const MATERIALS: [(&str, Material); 12] = [
     ("aluminium", ALUMINIUM),
     ("anodised-aluminium", ANODISED_ALUMINIUM),
     ("copper", COPPER),
+    ("electrical-steel", ELECTRICAL_STEEL),
     ("rust", RUST),
     ("ferrite", FERRITE),
     ("laminate", LAMINATE),

@@ -111,14 +111,50 @@ pub fn magnets(t: Tess, d: &Dims) -> [Mesh; 2] {
 /// Core radius of the armature.
 const CORE_RADIUS: f32 = 1.2;
 
+/// Where an armature's surfaces lie along its axis and about it (its units: cm in the add-on's
+/// frame, m in the motor's).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmatureLayout {
+    /// Radius of the shaft.
+    pub shaft_radius: f32,
+    /// Radius of the lamination stack's core (the windings lie beyond it).
+    pub core_radius: f32,
+    /// The core's span along the axis.
+    pub core: [f32; 2],
+    /// Radius of the commutator.
+    pub commutator_radius: f32,
+    /// The commutator's span along the axis.
+    pub commutator: [f32; 2],
+    /// Winding packs about the core (and bars of the commutator, one for each).
+    pub coils: u32,
+}
+
+impl ArmatureLayout {
+    /// The armature of a motor of dimensions `d`, in the add-on's frame (cm).
+    pub(super) fn new(d: &Dims) -> ArmatureLayout {
+        let core_len = 0.6 * (d.bottom + d.sub);
+        let core_lo = d.sub + 1.0;
+        let core_hi = core_lo + core_len;
+        ArmatureLayout {
+            shaft_radius: 0.15,
+            core_radius: CORE_RADIUS,
+            core: [core_lo, core_hi],
+            commutator_radius: 0.4,
+            commutator: [(core_len + 2.0).max(core_hi), core_len + 4.0],
+            coils: 8,
+        }
+    }
+}
+
 /// Shaft, rounded core and commutator turned as one solid, and the eight winding packs around the
 /// core (as the add-on: 36° packs every 45° from +x, 1.5 mm thick, 80 % of the core's length,
 /// here 0.1 mm clear of the core so that each is a shell of its own).
 pub fn armature(t: Tess, d: &Dims) -> Mesh {
+    let a = ArmatureLayout::new(d);
+    let [core_lo, core_hi] = a.core;
+    let (shaft, comm) = (a.shaft_radius, a.commutator_radius);
     let core_len = 0.6 * (d.bottom + d.sub);
-    let (core_lo, core_hi) = (d.sub + 1.0, d.sub + 1.0 + core_len);
-    let (shaft, comm) = (0.15, 0.4);
-    let (comm_lo, comm_hi) = (core_len + 2.0, core_len + 4.0);
+    let (comm_lo, comm_hi) = (core_len + 2.0, a.commutator[1]);
     let mut profile = vec![Vec2::new(shaft, 0.5), Vec2::new(shaft, core_lo)];
     profile.extend(round(
         t,
@@ -137,7 +173,7 @@ pub fn armature(t: Tess, d: &Dims) -> Mesh {
     if comm_lo > core_hi {
         profile.extend([Vec2::new(shaft, core_hi), Vec2::new(shaft, comm_lo)]);
     }
-    profile.push(Vec2::new(comm, comm_lo.max(core_hi)));
+    profile.push(Vec2::new(comm, a.commutator[0]));
     // the commutator's far end rounds in with 3.5 mm until it meets the shaft
     let meets_shaft = ((shaft - (comm - 0.35)) / 0.35).acos();
     profile.extend(round(
@@ -160,7 +196,7 @@ pub fn armature(t: Tess, d: &Dims) -> Mesh {
     let n = (t.n(1.285) / 10).max(2);
     // the chords of the packs' inner arcs 0.1 mm clear of the core
     let inner = (CORE_RADIUS + 0.01) / (0.5 * span / n as f32).cos();
-    for k in 0..8 {
+    for k in 0..a.coils {
         let from = (k as f32 * 45.0 - 0.75).to_radians();
         m.append(&plate(
             sector(inner, 1.285, from, from + span, n),

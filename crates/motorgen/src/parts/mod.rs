@@ -2,6 +2,8 @@
 //! its source; [`build`] scales the finished motor to metres once.
 
 mod body;
+
+pub use body::ArmatureLayout;
 mod bolt;
 mod gearbox;
 pub mod shapes;
@@ -66,6 +68,20 @@ impl Dims {
 
     fn tower_height(&self) -> f32 {
         self.tower_steps()[3]
+    }
+}
+
+/// Where the armature of the motor of `params` has its shaft, lamination stack, windings and
+/// commutator: in the motor frame (m), about its z axis.
+pub fn armature_layout(params: &MotorParams) -> ArmatureLayout {
+    let a = ArmatureLayout::new(&Dims::new(params));
+    ArmatureLayout {
+        shaft_radius: a.shaft_radius * M_PER_CM,
+        core_radius: a.core_radius * M_PER_CM,
+        core: a.core.map(|z| z * M_PER_CM),
+        commutator_radius: a.commutator_radius * M_PER_CM,
+        commutator: a.commutator.map(|z| z * M_PER_CM),
+        coils: a.coils,
     }
 }
 

@@ -345,7 +345,8 @@ pub struct SensorConfig {
     pub spec: Option<SensorSpec>,
     /// Noise models replacing the sensor's own (every model off unless given).
     pub noise: Option<Noise>,
-    /// Which pixels make a point, by Zivid's names: `all`, `by2x2` or `by4x4`.
+    /// Which pixels make a point, by Zivid's names: `all`, `by2x2`, `by4x4`, `blueSubsample2x2`
+    /// or `redSubsample2x2`.
     pub sampling: Sampling,
 }
 
@@ -373,7 +374,9 @@ impl SensorConfig {
         if let Some(noise) = self.noise {
             spec.noise = noise;
         }
-        let spec = spec.binned(self.sampling.factor());
+        let spec = spec
+            .sampled(self.sampling)
+            .map_err(|e| Error::Config(format!("sensor.{e}")))?;
         spec.validate()
             .map_err(|e| Error::Config(format!("sensor: {e}")))?;
         Ok(spec)

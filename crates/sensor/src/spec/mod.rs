@@ -504,9 +504,11 @@ impl Removal {
     }
 }
 
-/// Which camera pixels make a point, by Zivid's names (`Settings.Sampling.Pixel`): every pixel,
-/// or each 2×2 or 4×4 block summed into one (binning: half or a quarter of the resolution, each
-/// point with the light of 4 or 16 pixels; see [`SensorSpec::binned`]).
+/// Which camera pixels make a point, by Zivid's names (`Settings.Sampling.Pixel`): every pixel;
+/// each 2×2 or 4×4 block summed into one (binning: half or a quarter of the resolution, each
+/// point with the light of 4 or 16 pixels); or one colour of each 2×2 Bayer block, the
+/// projector lighting the scene in that colour alone (half the resolution, each point one
+/// pixel's light, a third of a white ambient light). See [`SensorSpec::sampled`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Sampling {
     /// Every pixel.
@@ -519,25 +521,62 @@ pub enum Sampling {
     /// 4×4 blocks.
     #[serde(rename = "by4x4")]
     By4x4,
+    /// The blue pixel of each 2×2 block, under blue light.
+    #[serde(rename = "blueSubsample2x2")]
+    BlueSubsample2x2,
+    /// The red pixel of each 2×2 block, under red light.
+    #[serde(rename = "redSubsample2x2")]
+    RedSubsample2x2,
 }
 
 impl Sampling {
+    /// Every sampling, in [`Sampling::NAMES`] order.
+    pub const ALL: [Sampling; 5] = [
+        Sampling::All,
+        Sampling::By2x2,
+        Sampling::By4x4,
+        Sampling::BlueSubsample2x2,
+        Sampling::RedSubsample2x2,
+    ];
+
     /// The names, as Zivid writes them.
-    pub const NAMES: [&str; 3] = ["all", "by2x2", "by4x4"];
+    pub const NAMES: [&str; 5] = [
+        "all",
+        "by2x2",
+        "by4x4",
+        "blueSubsample2x2",
+        "redSubsample2x2",
+    ];
 
     /// The pixels a block has along each side.
     pub fn factor(self) -> u32 {
         match self {
             Sampling::All => 1,
-            Sampling::By2x2 => 2,
+            Sampling::By2x2 | Sampling::BlueSubsample2x2 | Sampling::RedSubsample2x2 => 2,
             Sampling::By4x4 => 4,
+        }
+    }
+
+    /// Whether one pixel of each block makes the point, rather than the block's sum.
+    pub fn subsamples(self) -> bool {
+        matches!(self, Sampling::BlueSubsample2x2 | Sampling::RedSubsample2x2)
+    }
+
+    /// Where in its block the point's pixel lies, pixels from the block's first along each
+    /// axis (Zivid's pixel mapping: the blue pixel first, the red one last, a bin's centre).
+    pub fn offset(self) -> f64 {
+        match self {
+            Sampling::BlueSubsample2x2 => 0.0,
+            Sampling::RedSubsample2x2 => 1.0,
+            _ => (f64::from(self.factor()) - 1.0) / 2.0,
         }
     }
 }
 
 impl std::fmt::Display for Sampling {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(Sampling::NAMES[self.factor().trailing_zeros() as usize])
+        let i = Sampling::ALL.iter().position(|s| s == self).unwrap_or(0);
+        f.write_str(Sampling::NAMES[i])
     }
 }
 
@@ -550,16 +589,15 @@ impl std::str::FromStr for Sampling {
     ///
     /// [`Error::Invalid`] for a name that is not one of [`Sampling::NAMES`].
     fn from_str(name: &str) -> Result<Sampling, Error> {
-        match name {
-            "all" => Ok(Sampling::All),
-            "by2x2" => Ok(Sampling::By2x2),
-            "by4x4" => Ok(Sampling::By4x4),
-            _ => Err(Error::Invalid {
+        Sampling::NAMES
+            .iter()
+            .position(|n| *n == name)
+            .map(|i| Sampling::ALL[i])
+            .ok_or_else(|| Error::Invalid {
                 key: "sampling".into(),
                 value: format!("\"{name}\""),
                 allowed: format!("one of {}", Sampling::NAMES.join(", ")),
-            }),
-        }
+            })
     }
 }
 
@@ -974,12 +1012,56 @@ impl SensorSpec {
     }
 
     /// This sensor with `factor`×`factor` pixel binning: the binned camera (see
-    /// [`Intrinsics::binned`]), whose pixels each collect the charge of `factor`² pixels, and
-    /// whose noise correlates, and whose blur spreads, over as many fewer pixels.
+    /// [`Intrinsics::binned`]), whose pixels each collect the charge of `factor`² pixels (the
+    /// colour image's noise falls by `factor`), and whose noise correlates, and whose blur
+    /// spreads, over as many fewer pixels.
     pub fn binned(&self, factor: u32) -> SensorSpec {
-        let mut spec = self.clone();
-        spec.intrinsics = self.intrinsics.binned(factor);
+        let mut spec = self.fewer_pixels(factor, self.intrinsics.binned(factor));
         spec.noise.snr.electrons *= (factor * factor) as f32;
+        spec.colour.noise /= factor as f32;
+        spec
+    }
+
+    /// This sensor with Zivid's pixel sampling: [`SensorSpec::binned`] for `by2x2` and `by4x4`;
+    /// for `blueSubsample2x2` and `redSubsample2x2` one pixel of each 2×2 block (its own
+    /// light, its position in the block: [`Intrinsics::sampled`]) under the projector's light
+    /// of that colour, of which the pixel's colour filter passes all and of a white ambient
+    /// light a third.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] for a subsampling on a sensor without a colour imager under its
+    /// projector (no Bayer grid to pick a colour from).
+    pub fn sampled(&self, sampling: Sampling) -> Result<SensorSpec, Error> {
+        if !sampling.subsamples() {
+            return Ok(self.binned(sampling.factor()));
+        }
+        let bayer = self.projector().is_some()
+            && self.colour.capture != ColourCapture::Flat
+            && !self.colour.monochrome
+            && self.colour.offset == [0.0; 3];
+        if !bayer {
+            return Err(Error::Invalid {
+                key: "sampling".into(),
+                value: format!("\"{sampling}\""),
+                allowed: format!(
+                    "all, by2x2 or by4x4 on {}, whose imager has no colour pixels under its projector",
+                    self.name
+                ),
+            });
+        }
+        let factor = sampling.factor();
+        let mut spec =
+            self.fewer_pixels(factor, self.intrinsics.sampled(factor, sampling.offset()));
+        spec.noise.snr.ambient /= 3.0;
+        Ok(spec)
+    }
+
+    /// This sensor with camera `intrinsics`, `factor` times fewer pixels along each axis: its
+    /// noise correlates, and its blur spreads, over as many fewer pixels.
+    fn fewer_pixels(&self, factor: u32, intrinsics: Intrinsics) -> SensorSpec {
+        let mut spec = self.clone();
+        spec.intrinsics = intrinsics;
         let length = &mut spec.noise.correlated.length_px;
         *length = (*length / factor as f32).max(1.0);
         spec.noise.wings.psf_px /= factor as f32;

@@ -1,14 +1,16 @@
-//! The texture of a clean surface: drawn steel's streaks, moulded plastic's grain.
+//! The texture of a clean surface: drawn steel's streaks, moulded plastic's grain, an
+//! armature's surfaces.
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+use super::armature::Armature;
 use super::pattern::fbm;
 use crate::world::Material;
 
 /// How a clean surface's texture varies its material from point to point: its colour and
 /// reflectivity by a few per cent, its roughness by a few hundredths.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Grain {
     /// An even surface.
@@ -19,6 +21,9 @@ pub enum Grain {
     Drawn,
     /// Moulded plastic: a fine, even grain, 5 % in brightness.
     Moulded,
+    /// An armature's surfaces, each its own material and texture (the part's material its
+    /// windings').
+    Armature(Armature),
 }
 
 /// Standard deviation of the grain's fractal noise (`fbm(_, 2, 0.5)`, measured).
@@ -29,6 +34,7 @@ impl Grain {
     pub(super) fn apply(self, m: &Material, q: Vec3) -> Option<Material> {
         let (v, depth) = match self {
             Grain::None => return None,
+            Grain::Armature(a) => return Some(a.material(m, q)),
             // 2.5 streaks a millimetre across, 4 cm long
             Grain::Drawn => (
                 fbm(Vec3::new(25.0 * q.x, 25.0 * q.y, 0.25 * q.z), 2.0, 0.5),

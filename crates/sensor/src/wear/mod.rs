@@ -1,11 +1,13 @@
 //! Wear: where rust, dust and grease lie on a surface (masks over its texture coordinates) and
 //! how they change the surface's material for the depth model and the colour image alike.
 
+mod armature;
 mod grain;
 mod pattern;
 #[cfg(test)]
 mod tests;
 
+pub use armature::{Armature, ArmatureSurface, GAP, SHEET_CM, WIRE_CM};
 pub use grain::Grain;
 
 use glam::{Affine3A, Vec3};
@@ -148,6 +150,15 @@ impl Wear {
             grease: 0.0,
             seats: None,
             grain: Grain::None,
+        }
+    }
+
+    /// A clean surface of `grain` over the texture coordinates `texture` gives: no rust, no
+    /// dirt.
+    pub fn clean(texture: Affine3A, grain: Grain) -> Wear {
+        Wear {
+            grain,
+            ..Wear::new(texture, Mask::Coverage { share: 0.0 }, Rust(1))
         }
     }
 

@@ -38,6 +38,11 @@ fn hash3(x: u32, y: u32, z: u32) -> u32 {
     finish(s.wrapping_add(x), s.wrapping_add(y), s.wrapping_add(z))
 }
 
+/// A value in 0..1 for integer `i` of the sequence `salt`: each sheet's, wire's or bar's own.
+pub(crate) fn draw(i: i32, salt: u32) -> f32 {
+    unit(hash2(i as u32, salt))
+}
+
 /// A hash as a float in 0..1.
 fn unit(h: u32) -> f32 {
     h as f32 / u32::MAX as f32

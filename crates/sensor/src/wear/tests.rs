@@ -1,7 +1,7 @@
 use glam::Vec3;
 
-use super::Mask;
 use super::pattern::{Ramp, fbm_colour, luminance, voronoi_colour};
+use super::{Armature, ArmatureSurface, Mask};
 
 /// A 16-bit RGB pass of `fidelity/appearance/reference/pattern-<name>.png`: its size and its
 /// pixels as raw values 0..1.
@@ -98,4 +98,95 @@ fn the_noises_deviations_are_measured() {
             "{detail}: {s} vs {sigma}"
         );
     }
+}
+
+/// An armature about the axis (0.3, -0.2): a core of radius 1.2 from z 1 to 3, a commutator
+/// from z 4 to 5, eight bars.
+const ARMATURE: Armature = Armature {
+    axis: [0.3, -0.2],
+    shaft_radius: 0.15,
+    core_radius: 1.2,
+    core: [1.0, 3.0],
+    commutator: [4.0, 5.0],
+    bars: 8,
+};
+
+/// The point at radius `r`, turned `turn` about the armature's axis, at height `z`.
+fn around(r: f32, turn: f32, z: f32) -> Vec3 {
+    Vec3::new(0.3 + r * turn.cos(), -0.2 + r * turn.sin(), z)
+}
+
+/// How many runs of `dark` values a sequence has.
+fn runs(values: impl Iterator<Item = bool>) -> usize {
+    let mut last = false;
+    values
+        .filter(|&dark| {
+            let start = dark && !last;
+            last = dark;
+            start
+        })
+        .count()
+}
+
+#[test]
+fn an_armatures_surfaces_lie_where_its_layout_puts_them() {
+    use ArmatureSurface::*;
+    for (r, z, want) in [
+        (0.15, 0.5, Shaft),
+        (0.15, 2.0, Shaft),
+        (0.15, 3.5, Shaft),
+        (1.0, 2.0, Laminations),
+        (0.6, 1.0, Laminations),
+        (1.2, 2.9, Laminations),
+        (1.25, 2.0, Windings),
+        (1.285, 1.5, Windings),
+        (0.4, 4.5, Commutator),
+        (0.3, 4.0, Commutator),
+    ] {
+        for turn in [0.0, 1.0, 4.0] {
+            assert_eq!(ARMATURE.surface(around(r, turn, z)), want, "r {r}, z {z}");
+        }
+    }
+}
+
+#[test]
+fn laminations_wires_and_bars_repeat_at_their_pitch() {
+    let copper = crate::materials::COPPER;
+    let brightness = |q: Vec3| luminance(Vec3::from(ARMATURE.material(&copper, q).colour));
+    // 1.5 cm of the core along its axis: a dark seam at each of 30 sheets' faces
+    let steel = luminance(Vec3::from(crate::materials::ELECTRICAL_STEEL.colour));
+    let along: Vec<f32> = (0..15_000)
+        .map(|k| brightness(around(1.2, 0.7, 1.2 + k as f32 * 1e-4)))
+        .collect();
+    let seams = runs(along.iter().map(|&b| b < 0.7 * steel));
+    assert!((30..=31).contains(&seams), "{seams}");
+    // and between the seams each sheet within 8 % of the steel's colour
+    assert!(
+        along
+            .iter()
+            .all(|&b| b < 0.7 * steel || (b / steel - 1.0).abs() <= 0.081),
+        "{along:?}"
+    );
+    // a 1 cm arc of the windings: a groove between each of 33 wires
+    let arc = 1.0 / 1.285;
+    let across: Vec<f32> = (0..10_000)
+        .map(|k| brightness(around(1.285, 0.2 + arc * k as f32 * 1e-4, 2.0)))
+        .collect();
+    let copper_y = luminance(Vec3::from(copper.colour));
+    let grooves = runs(across.iter().map(|&b| b < 0.6 * copper_y));
+    assert!((33..=34).contains(&grooves), "{grooves}");
+    // a turn of the commutator: its eight bars, the mica between them dark
+    let turn: Vec<f32> = (0..7200)
+        .map(|k| {
+            brightness(around(
+                0.4,
+                0.4 + k as f32 * std::f32::consts::TAU / 7200.0,
+                4.5,
+            ))
+        })
+        .collect();
+    let gaps = runs(turn.iter().map(|&b| b < 0.1));
+    assert_eq!(gaps, 8);
+    let mica = turn.iter().filter(|&&b| b < 0.1).count() as f32 / turn.len() as f32;
+    assert!((mica - super::GAP).abs() < 0.01, "{mica}");
 }

@@ -845,3 +845,63 @@ fn noise_suppression_smooths_weak_signal_and_keeps_steps_and_strong_signal() {
         assert!(errors.len() > 400 && mean.abs() < 2e-4, "row {row}: {mean}");
     }
 }
+
+#[test]
+fn subsampling_keeps_one_colour_pixel_of_each_block_under_its_light() {
+    let m60 = SensorSpec::preset("zivid-2plus-m60").unwrap();
+    let k = &m60.intrinsics;
+    // Zivid's pixel mapping: blue the block's first pixel, red its last, a bin its centre
+    for (sampling, offset) in [
+        (Sampling::BlueSubsample2x2, 0.0),
+        (Sampling::RedSubsample2x2, 1.0),
+        (Sampling::By2x2, 0.5),
+    ] {
+        let s = m60.sampled(sampling).unwrap();
+        assert_eq!((s.intrinsics.width, s.intrinsics.height), (1224, 1024));
+        for (u, v) in [(0.0, 0.0), (611.0, 300.0), (1223.0, 1023.0)] {
+            let (a, b) = (
+                s.intrinsics.ray(u, v),
+                k.ray(2.0 * u + offset, 2.0 * v + offset),
+            );
+            assert!(a.angle_between(b) < 1e-6, "{sampling}: {a} vs {b}");
+        }
+    }
+    // one pixel's light, a third of the ambient: between every pixel and the 2×2 bin, and the
+    // points err by the σ their SNR gives
+    let world = plane(0.6, 0.5);
+    let mean_snr = |spec: &SensorSpec| {
+        let s = scan(&world, spec, &Affine3A::IDENTITY, 3);
+        let valid: Vec<&Pixel> = s.pixels.iter().filter(|p| p.is_valid()).collect();
+        valid.iter().map(|p| p.snr as f64).sum::<f64>() / valid.len() as f64
+    };
+    let all = mean_snr(&m60);
+    let blue_spec = m60.sampled(Sampling::BlueSubsample2x2).unwrap();
+    let s = scan(&world, &blue_spec, &Affine3A::IDENTITY, 3);
+    let snr = blue_spec.noise.snr;
+    let valid: Vec<&Pixel> = s.pixels.iter().filter(|p| p.is_valid()).collect();
+    let blue = valid.iter().map(|p| p.snr as f64).sum::<f64>() / valid.len() as f64;
+    let by2 = mean_snr(&m60.sampled(Sampling::By2x2).unwrap());
+    assert!(
+        all < blue && blue < by2,
+        "all {all}, blue {blue}, by2x2 {by2}"
+    );
+    let full = m60.noise.snr;
+    assert_eq!(
+        (snr.electrons, snr.ambient),
+        (full.electrons, full.ambient / 3.0)
+    );
+    let fb = blue_spec.focal_baseline();
+    let (_, sd) = mean_std(&z_scores(&s, |p| snr.sigma_z(p.snr, p.clean.z, fb) as f64));
+    assert!((sd - 1.0).abs() < 0.02, "{sd}");
+    // no colour pixels on the R line's monochrome imager
+    let mr60 = SensorSpec::preset("zivid-2plus-mr60").unwrap();
+    let e = mr60
+        .sampled(Sampling::RedSubsample2x2)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("sampling = \"redSubsample2x2\" is not allowed"),
+        "{e}"
+    );
+    assert!(mr60.sampled(Sampling::By2x2).is_ok());
+}
