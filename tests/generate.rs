@@ -171,7 +171,16 @@ fn small_dataset_is_complete_labelled_cropped_and_listed() {
 #[test]
 fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
     let dir = tempfile::tempdir().unwrap();
-    let a = small("6", &[]);
+    // with images and their COCO annotations, gathered by the shard that completes the set
+    let a = small(
+        "6",
+        &[
+            "--set",
+            "output.images=true",
+            "--set",
+            "output.coco=polygons",
+        ],
+    );
     let one = dir.path().join("one");
     ok(&generate(&one, &[&args(&a)[..], &["--jobs", "1"]].concat()));
     let two = dir.path().join("two");
@@ -186,6 +195,10 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
     }
     assert_same_dataset(&one, &shards);
     assert!(shards.join("manifest-2-of-3.jsonl").is_file());
+    for split in ["train", "validation"] {
+        let coco = std::fs::read_to_string(one.join(format!("annotations/instances_{split}.json")));
+        assert!(coco.unwrap().contains("\"segmentation\":[["), "{split}");
+    }
 }
 
 #[test]
@@ -295,6 +308,14 @@ fn bad_configurations_are_refused_and_write_nothing() {
         (vec!["--set", "augment.clean.share=0.5"], "share"),
         (vec!["--set", "motor.cover_removed=0.5"], "inner10"),
         (vec!["--set", "output.formats=[\"las\"]"], "las"),
+        (
+            vec!["--set", "output.coco=\"rle\""],
+            "output.coco = \"rle\" is not allowed: expected \"off\" unless output.images = true",
+        ),
+        (
+            vec!["--set", "output.images=true", "--set", "output.coco=masks"],
+            "output.coco",
+        ),
         (vec!["--set", "nonsense"], "KEY=VALUE"),
         (vec!["--shard", "4/4"], "--shard"),
         (vec!["--jobs", "0"], "--jobs"),

@@ -36,6 +36,7 @@
 pub mod augment;
 pub mod cell;
 mod claim;
+pub mod coco;
 pub mod config;
 pub mod coverage;
 pub mod dataset;

@@ -11,6 +11,7 @@ use sensor::{Frame, Material, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
 use crate::augment::{Level, Split};
+use crate::coco::CocoView;
 use crate::config::{Clamping, Variant};
 
 /// A row-major 4×4 matrix.
@@ -152,6 +153,9 @@ pub struct ViewJson {
     pub overlap: Option<Vec<f32>>,
     /// The view's files, relative to the dataset folder.
     pub files: Vec<String>,
+    /// With `output.coco`: the colour image's COCO image and annotations.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coco: Option<CocoView>,
 }
 
 impl SampleJson {

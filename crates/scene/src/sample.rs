@@ -13,7 +13,8 @@ use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Place, Split, place};
 use crate::cell::{Cell, Variation, compose, transform_box, turned_with_motor};
-use crate::config::{Clamping, Colouring, Config, CropConfig, Variant};
+use crate::coco::{self, CocoMasks, CocoView};
+use crate::config::{Clamping, Colouring, Config, CropConfig, MAX_VIEWS, Variant};
 use crate::coverage::{Surface, overlap};
 use crate::error::Result;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
@@ -440,6 +441,22 @@ impl Sample {
         format!("{:06}_{variant}_{}", self.index, self.level.name())
     }
 
+    /// View `k`'s COCO image (its colour image among `files`) and annotations, when `masks`
+    /// asks for them and the view kept its scan.
+    fn coco(&self, k: usize, files: &[String], masks: CocoMasks) -> Option<CocoView> {
+        let scan = self.views[k].scan.as_ref()?;
+        let file_name = files.iter().find(|f| f.ends_with("rgb.png"))?.clone();
+        (masks != CocoMasks::Off).then(|| {
+            let image = coco::Image {
+                id: self.index * MAX_VIEWS + k as u64 + 1,
+                file_name,
+                width: scan.width as usize,
+                height: scan.height as usize,
+            };
+            coco::annotate(scan, image, masks)
+        })
+    }
+
     /// Ground truth and provenance as a sample's JSON: motor parameters and attributes (motor
     /// frame), motor, fixture and camera poses, the sensor, crop box, level, split and seeds;
     /// `files` are each view's files.
@@ -464,6 +481,7 @@ impl Sample {
                 points: v.cloud.len(),
                 overlap: self.overlap.as_ref().map(|o| o[k].clone()),
                 files: files.clone(),
+                coco: self.coco(k, files, out.coco),
             })
             .collect();
         let objects = self

@@ -2,7 +2,8 @@
 
 use motorgen::Scheme;
 
-use super::{Config, Rig, sweep};
+use super::{Config, MAX_VIEWS, Rig, sweep};
+use crate::coco::CocoMasks;
 use crate::error::{Error, Result};
 
 impl Config {
@@ -147,13 +148,20 @@ impl Config {
                 "at least one of ply, pcd, pcd-ascii, npy, npz (or images = true)",
             ));
         }
+        if self.output.coco != CocoMasks::Off && !self.output.images {
+            return Err(Error::invalid(
+                "output.coco",
+                format!("\"{}\"", self.output.coco.name()),
+                "\"off\" unless output.images = true (COCO annotates the colour images)",
+            ));
+        }
         sweep::Combinations::new(&self.sweep)?;
         Ok(())
     }
 
     fn check_camera(&self) -> Result<()> {
         let c = &self.camera;
-        if !(1..=64).contains(&c.views) {
+        if !(1..=MAX_VIEWS).contains(&u64::from(c.views)) {
             return Err(Error::invalid("camera.views", c.views, "1 to 64"));
         }
         if self.cell.reclamp && c.views < 2 {

@@ -11,6 +11,8 @@ use motorgen::{Detail, ParamSpace, PartKind, Scheme};
 use rand::{Rng, RngExt};
 use sensor::formats::CloudFormat;
 use sensor::{Frame, Noise, Sampling, SensorSpec, Units};
+
+use crate::coco::CocoMasks;
 use serde::{Deserialize, Serialize};
 
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
@@ -458,6 +460,9 @@ pub struct AugmentConfig {
     pub noisy: LevelConfig,
 }
 
+/// The most views a sample has (`camera.views`).
+pub const MAX_VIEWS: u64 = 64;
+
 /// `[output]`: what each sample writes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -476,6 +481,9 @@ pub struct OutputConfig {
     pub scene_cloud: bool,
     /// Also write depth, normal, label, instance and intensity images.
     pub images: bool,
+    /// COCO instance annotations of the colour images (with `images`): `off`, `polygons` or
+    /// `rle`.
+    pub coco: CocoMasks,
     /// What the points' rgb holds.
     pub colour: Colouring,
     /// Also record, for every pair of views, the share of each view's motor points whose

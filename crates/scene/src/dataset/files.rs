@@ -103,8 +103,9 @@ impl ViewFile {
     }
 }
 
-/// Every folder a sample's files may go to, in either layout.
-pub(crate) const SAMPLE_FOLDERS: [&str; 9] = [
+/// Every folder a run writes files to besides the dataset folder: those a sample's files may go
+/// to, in either layout, and the gathered annotations'.
+pub(crate) const SAMPLE_FOLDERS: [&str; 10] = [
     "train",
     "validation",
     "ply",
@@ -114,6 +115,7 @@ pub(crate) const SAMPLE_FOLDERS: [&str; 9] = [
     "scene",
     "images",
     "json",
+    "annotations",
 ];
 
 /// Where a file of a sample of `split` named `name` goes, relative to the dataset folder:

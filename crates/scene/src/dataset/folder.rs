@@ -61,7 +61,7 @@ pub(super) fn unwritable(out: &Path, e: Error) -> Error {
 }
 
 /// Writes `body` to `path` through a temporary file and a rename.
-pub(super) fn save(
+pub(crate) fn save(
     path: &Path,
     body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {

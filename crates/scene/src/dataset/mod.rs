@@ -24,12 +24,13 @@ use crate::augment::Split;
 use crate::claim::{Claim, plain_dir};
 use crate::config::{Combinations, Config, Layout, set_key};
 use crate::error::{Error, Result};
+use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample, make};
 
 pub(crate) use files::SAMPLE_FOLDERS;
 pub use files::sample_json;
-pub(crate) use folder::files_in;
-use folder::{make_out, read_all_rows, save, unwritable, write_json, write_rows};
+pub(crate) use folder::{files_in, save};
+use folder::{make_out, read_all_rows, unwritable, write_json, write_rows};
 
 /// Which part of the samples a run makes: those with `index % count == part`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -466,7 +467,10 @@ impl Dataset {
                     .filter(|r| r.index < self.samples)
                     .collect();
                 write_rows(&self.out.join("manifest.jsonl"), &all)?;
+                self.gather_coco(&all)?;
             }
+        } else if !stopped {
+            self.gather_coco(&rows)?;
         }
         let mut summary = Summary {
             made: rows.len() as u64 - skipped,
@@ -488,6 +492,43 @@ impl Dataset {
         }
         drop(claim);
         Ok(summary)
+    }
+}
+
+impl Dataset {
+    /// With `output.coco`: the COCO instances files of the whole dataset (`rows`), from the
+    /// annotations each sample's JSON keeps.
+    fn gather_coco(&self, rows: &[Row]) -> Result<()> {
+        let output = &self.base.config.output;
+        if output.coco == crate::coco::CocoMasks::Off {
+            return Ok(());
+        }
+        let mut views = Vec::new();
+        for row in rows {
+            let rel = Path::new(&row.json);
+            let path = self.out.join(rel);
+            let plain = rel
+                .components()
+                .all(|c| matches!(c, std::path::Component::Normal(_)));
+            if !plain {
+                return Err(Error::Config(format!(
+                    "the manifest names {} for sample {}, outside the dataset folder",
+                    motorgen::shown(&row.json),
+                    row.index
+                )));
+            }
+            let bytes = sensor::files::read(&path, sensor::files::CONFIG_LIMIT)
+                .map_err(Error::io(&path))?;
+            let doc: SampleJson = serde_json::from_slice(&bytes)
+                .map_err(|e| Error::Config(format!("{}: {e}", path.display())))?;
+            views.extend(
+                doc.views
+                    .into_iter()
+                    .filter_map(|v| v.coco)
+                    .map(|c| (row.split.clone(), c)),
+            );
+        }
+        crate::coco::gather(&self.out, output.scheme, &views)
     }
 }
 
