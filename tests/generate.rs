@@ -179,6 +179,8 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
             "output.images=true",
             "--set",
             "output.coco=polygons",
+            "--set",
+            "output.yolo=segment",
         ],
     );
     let one = dir.path().join("one");
@@ -199,6 +201,11 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
         let coco = std::fs::read_to_string(one.join(format!("annotations/instances_{split}.json")));
         assert!(coco.unwrap().contains("\"segmentation\":[["), "{split}");
     }
+    let yaml = std::fs::read_to_string(one.join("yolo/data.yaml")).unwrap();
+    assert!(
+        yaml.contains("val: images/val\nnames:\n  0: cover\n"),
+        "{yaml}"
+    );
 }
 
 #[test]
@@ -315,6 +322,10 @@ fn bad_configurations_are_refused_and_write_nothing() {
         (
             vec!["--set", "output.images=true", "--set", "output.coco=masks"],
             "output.coco",
+        ),
+        (
+            vec!["--set", "output.yolo=detect"],
+            "output.yolo = \"detect\" is not allowed: expected \"off\" unless output.images = true",
         ),
         (vec!["--set", "nonsense"], "KEY=VALUE"),
         (vec!["--shard", "4/4"], "--shard"),

@@ -119,6 +119,15 @@ impl Scheme {
     /// All schemes.
     pub const ALL: [Scheme; 3] = [Scheme::SynMotor, Scheme::Wacv, Scheme::InnerParts];
 
+    /// Its name in a configuration.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scheme::SynMotor => "synmotor7",
+            Scheme::Wacv => "wacv6",
+            Scheme::InnerParts => "inner10",
+        }
+    }
+
     /// The classes, by id.
     pub fn classes(self) -> &'static [ClassInfo] {
         match self {

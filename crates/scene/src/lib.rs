@@ -47,6 +47,7 @@ pub mod record;
 pub mod rig;
 pub mod sample;
 pub mod station;
+pub mod yolo;
 
 pub use augment::{Level, Split};
 pub use cell::{Cell, Object, Variation, compose};

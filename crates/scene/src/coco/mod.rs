@@ -71,11 +71,25 @@ pub struct Annotation {
     pub bbox: [f64; 4],
     /// Pixels in the mask.
     pub area: f64,
-    /// The mask: `[[x0, y0, x1, y1, …]]` (polygons) or `{"size": [h, w], "counts": …}`
-    /// (compressed RLE).
-    pub segmentation: serde_json::Value,
+    /// The mask.
+    pub segmentation: Segmentation,
     /// Always 0: every annotation is one object.
     pub iscrowd: u8,
+}
+
+/// A COCO mask.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Segmentation {
+    /// `[[x0, y0, x1, y1, …]]`: one polygon on pixel corners whose even-odd fill is the mask.
+    Polygons(Vec<Vec<f64>>),
+    /// `{"size": [h, w], "counts": …}`: pycocotools' compressed run-length encoding.
+    Rle {
+        /// Rows and columns of the image.
+        size: [usize; 2],
+        /// The compressed run lengths.
+        counts: String,
+    },
 }
 
 /// One view's COCO image and annotations, as a sample's JSON keeps them.
@@ -114,10 +128,10 @@ pub fn annotate(scan: &Scan, image: Image, masks: CocoMasks) -> CocoView {
                 inside: &inside,
             };
             let segmentation = match masks {
-                CocoMasks::Rle => serde_json::json!({
-                    "size": [h, w],
-                    "counts": compressed(&mask.runs_in(x0, y0, w, h)),
-                }),
+                CocoMasks::Rle => Segmentation::Rle {
+                    size: [h, w],
+                    counts: compressed(&mask.runs_in(x0, y0, w, h)),
+                },
                 _ => {
                     let polygon: Vec<f64> = mask
                         .polygon()
@@ -125,7 +139,7 @@ pub fn annotate(scan: &Scan, image: Image, masks: CocoMasks) -> CocoView {
                         .chunks(2)
                         .flat_map(|c| [c[0] + x0 as f64, c[1] + y0 as f64])
                         .collect();
-                    serde_json::json!([polygon])
+                    Segmentation::Polygons(vec![polygon])
                 }
             };
             Annotation {

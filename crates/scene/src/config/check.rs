@@ -5,6 +5,7 @@ use motorgen::Scheme;
 use super::{Config, MAX_VIEWS, Rig, sweep};
 use crate::coco::CocoMasks;
 use crate::error::{Error, Result};
+use crate::yolo::Yolo;
 
 impl Config {
     /// Checks every value against what it allows.
@@ -153,6 +154,13 @@ impl Config {
                 "output.coco",
                 format!("\"{}\"", self.output.coco.name()),
                 "\"off\" unless output.images = true (COCO annotates the colour images)",
+            ));
+        }
+        if self.output.yolo != Yolo::Off && !self.output.images {
+            return Err(Error::invalid(
+                "output.yolo",
+                format!("\"{}\"", self.output.yolo.name()),
+                "\"off\" unless output.images = true (YOLO labels the colour images)",
             ));
         }
         sweep::Combinations::new(&self.sweep)?;

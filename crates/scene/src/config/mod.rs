@@ -13,6 +13,7 @@ use sensor::formats::CloudFormat;
 use sensor::{Frame, Noise, Sampling, SensorSpec, Units};
 
 use crate::coco::CocoMasks;
+use crate::yolo::Yolo;
 use serde::{Deserialize, Serialize};
 
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
@@ -484,6 +485,9 @@ pub struct OutputConfig {
     /// COCO instance annotations of the colour images (with `images`): `off`, `polygons` or
     /// `rle`.
     pub coco: CocoMasks,
+    /// Ultralytics YOLO labels of the colour images (with `images`): `off`, `detect` or
+    /// `segment`.
+    pub yolo: Yolo,
     /// What the points' rgb holds.
     pub colour: Colouring,
     /// Also record, for every pair of views, the share of each view's motor points whose

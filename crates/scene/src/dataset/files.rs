@@ -11,6 +11,7 @@ use crate::config::Layout;
 use crate::error::Result;
 use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample};
+use crate::yolo::{self, Yolo};
 
 impl Dataset {
     /// Writes a sample's files and returns its manifest row.
@@ -20,12 +21,13 @@ impl Dataset {
         let stem = sample.stem();
         let files = view_files(recipe, sample);
         let json_rel = placed(out.layout, sample.split, "json", &format!("{stem}.json"));
+        // every folder above every file, parents first
         let mut folders: Vec<&str> = files
             .iter()
             .flatten()
             .map(|(rel, _)| rel.as_str())
             .chain([json_rel.as_str()])
-            .filter_map(|rel| rel.split_once('/').map(|(folder, _)| folder))
+            .flat_map(|rel| rel.match_indices('/').map(|(i, _)| &rel[..i]))
             .collect();
         folders.sort_unstable();
         folders.dedup();
@@ -50,6 +52,14 @@ impl Dataset {
                     ViewFile::Image(k) => {
                         let scan = view.scan.as_ref().expect("a view with a scan");
                         save(&path, &|w| (sensor::formats::IMAGES[k].1)(w, scan))
+                    }
+                    ViewFile::YoloImage => {
+                        let scan = view.scan.as_ref().expect("a view with a scan");
+                        save(&path, &|w| sensor::formats::write_rgb_png(w, scan))
+                    }
+                    ViewFile::YoloLabels(kind) => {
+                        let scan = view.scan.as_ref().expect("a view with a scan");
+                        save(&path, &|w| yolo::write_labels(w, scan, kind))
                     }
                 }?;
             }
@@ -89,6 +99,10 @@ enum ViewFile {
     SceneCloud(CloudFormat),
     /// An image of the scan ([`sensor::formats::IMAGES`], by index).
     Image(usize),
+    /// The colour image in the YOLO folder.
+    YoloImage,
+    /// Its YOLO labels.
+    YoloLabels(Yolo),
 }
 
 impl ViewFile {
@@ -99,13 +113,15 @@ impl ViewFile {
             ViewFile::Cloud(f) => f.name(),
             ViewFile::SceneCloud(_) => "scene",
             ViewFile::Image(_) => "images",
+            ViewFile::YoloImage | ViewFile::YoloLabels(_) => yolo::FOLDER,
         }
     }
 }
 
-/// Every folder a run writes files to besides the dataset folder: those a sample's files may go
-/// to, in either layout, and the gathered annotations'.
-pub(crate) const SAMPLE_FOLDERS: [&str; 10] = [
+/// Every folder a run writes files to besides the dataset folder, each before its parent: those
+/// a sample's files may go to, in either layout, the YOLO folder's, and the gathered
+/// annotations'.
+pub(crate) const SAMPLE_FOLDERS: [&str; 17] = [
     "train",
     "validation",
     "ply",
@@ -116,6 +132,13 @@ pub(crate) const SAMPLE_FOLDERS: [&str; 10] = [
     "images",
     "json",
     "annotations",
+    "yolo/images/train",
+    "yolo/images/val",
+    "yolo/labels/train",
+    "yolo/labels/val",
+    "yolo/images",
+    "yolo/labels",
+    "yolo",
 ];
 
 /// Where a file of a sample of `split` named `name` goes, relative to the dataset folder:
@@ -160,10 +183,19 @@ fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> 
                     files.push((format!("{view_stem}_{name}"), ViewFile::Image(k)));
                 }
             }
-            files
+            let mut files: Vec<(String, ViewFile)> = files
                 .into_iter()
                 .map(|(name, file)| (placed(out.layout, sample.split, file.folder(), &name), file))
-                .collect()
+                .collect();
+            if view.scan.is_some() && out.yolo != Yolo::Off {
+                let split = yolo::split_folder(sample.split);
+                let at = |kind: &str, ext: &str| {
+                    format!("{}/{kind}/{split}/{view_stem}.{ext}", yolo::FOLDER)
+                };
+                files.push((at("images", "png"), ViewFile::YoloImage));
+                files.push((at("labels", "txt"), ViewFile::YoloLabels(out.yolo)));
+            }
+            files
         })
         .collect()
 }

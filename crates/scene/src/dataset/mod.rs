@@ -338,6 +338,13 @@ impl Dataset {
             "instances": "motor parts 1..k in build order (see each sample's objects), then the table, fixture parts and panels",
         });
         save(&out.join("labels.json"), &|w| write_json(w, &labels))?;
+        let kind = self.base.config.output.yolo;
+        if kind != crate::yolo::Yolo::Off {
+            let folder = out.join(crate::yolo::FOLDER);
+            plain_dir(&folder)?;
+            let yaml = crate::yolo::data_yaml(scheme, kind);
+            save(&folder.join("data.yaml"), &|w| w.write_all(yaml.as_bytes()))?;
+        }
         if self.base.config.output.layout == Layout::SplitFolders {
             for split in [Split::Train, Split::Validation] {
                 plain_dir(&out.join(split.name()))?;
