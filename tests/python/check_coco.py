@@ -38,6 +38,7 @@ def check(path, kind):
             seg = ann["segmentation"]
             assert isinstance(seg, dict) == (kind == "rle"), type(seg)
             assert ann["area"] == want.sum(), (ann["area"], want.sum())
+            assert 0 < ann["visible_fraction"] <= 1, ann["visible_fraction"]
             box = mask_utils.toBbox(coco.annToRLE(ann)).tolist()
             assert ann["bbox"] == box, (ann["bbox"], box)
             ys, xs = np.nonzero(want)

@@ -1,7 +1,8 @@
 """Reads a dataset's YOLO folder: every image has its labels, every label line its class in
 data.yaml's names and its coordinates within the image, and each line is its part's pixels in
 instances.png: a box exactly the mask's, a polygon whose even-odd fill at the pixel centres is
-the mask. With Ultralytics installed, its own label check (verify_image_label) passes too.
+the mask. With Ultralytics installed, its own checks (check_det_dataset, verify_image_label)
+pass too.
 
     python3 check_yolo.py DATASET_DIR detect|segment
 """
@@ -91,6 +92,13 @@ def main():
             assert nf == 1 and nc == 0 and not msg, (image_path, msg)
     assert labels > 0, "no labels"
     print(f"yolo {kind}: {images} images, {labels} labels: classes, boxes and masks exact")
+    try:
+        from ultralytics.data.utils import check_det_dataset
+    except ImportError:
+        return
+    data = check_det_dataset(str(yolo / "data.yaml"))
+    assert data["nc"] == len(classes) and data["names"] == classes, data
+    print(f"Ultralytics: check_det_dataset and verify_image_label accept {images} images")
 
 
 if __name__ == "__main__":

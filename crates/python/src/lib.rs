@@ -142,6 +142,27 @@ fn cloud_dict(py: Python<'_>, c: PointCloud) -> PyResult<Bound<'_, PyDict>> {
     Ok(d)
 }
 
+/// A scan's images into `d`, as `rgb.png`, `labels.png` and `instances.png` hold them:
+/// `image` (H×W×3 uint8 sRGB), `image_label` (H×W uint16) and `image_instance` (H×W uint32),
+/// each pixel's surface under its centre.
+fn image_arrays(d: &Bound<'_, PyDict>, scan: &sensor::Scan) -> PyResult<()> {
+    let py = d.py();
+    let (w, h) = (scan.width as usize, scan.height as usize);
+    let rgb: Vec<u8> = scan.pixels.iter().flat_map(|p| p.rgb).collect();
+    d.set_item("image", PyArray1::from_vec(py, rgb).reshape([h, w, 3])?)?;
+    let class: Vec<u16> = scan.pixels.iter().map(|p| p.class).collect();
+    d.set_item(
+        "image_label",
+        PyArray1::from_vec(py, class).reshape([h, w])?,
+    )?;
+    let instance: Vec<u32> = scan.pixels.iter().map(|p| p.instance).collect();
+    d.set_item(
+        "image_instance",
+        PyArray1::from_vec(py, instance).reshape([h, w])?,
+    )?;
+    Ok(())
+}
+
 /// One part of a motor: a closed mesh with its labels (motor frame, metres).
 #[pyclass(frozen, module = "motorfactory")]
 struct Part {
@@ -581,8 +602,8 @@ impl Generator {
             let sample = make(&recipe, index)?;
             let json = sample_json(&recipe, &sample).to_text();
             // the views' clouds themselves, recoloured only where the configuration asks for
-            // the class palette
-            let clouds: Vec<PointCloud> = sample
+            // the class palette, and their scans when images are asked for
+            let views: Vec<(PointCloud, Option<sensor::Scan>)> = sample
                 .views
                 .into_iter()
                 .map(|v| {
@@ -590,15 +611,19 @@ impl Generator {
                         Cow::Owned(c) => Some(c),
                         Cow::Borrowed(_) => None,
                     };
-                    recoloured.unwrap_or(v.cloud)
+                    (recoloured.unwrap_or(v.cloud), v.scan)
                 })
                 .collect();
-            Ok::<_, scene::Error>((clouds, json))
+            Ok::<_, scene::Error>((views, json))
         });
         let (clouds, text) = made.map_err(scene_error)?;
         let views = PyList::empty(py);
-        for c in clouds {
-            views.append(cloud_dict(py, c)?)?;
+        for (c, scan) in clouds {
+            let d = cloud_dict(py, c)?;
+            if let Some(scan) = scan {
+                image_arrays(&d, &scan)?;
+            }
+            views.append(d)?;
         }
         // the first view's arrays at the top level too (the same arrays)
         let out = views.get_item(0)?.cast::<PyDict>()?.copy()?;

@@ -46,6 +46,7 @@ pub mod preview;
 pub mod record;
 pub mod rig;
 pub mod sample;
+pub mod silhouette;
 pub mod station;
 pub mod yolo;
 

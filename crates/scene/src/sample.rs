@@ -14,11 +14,12 @@ use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 use crate::augment::{Level, Place, Split, place};
 use crate::cell::{Cell, Variation, compose, transform_box, turned_with_motor};
 use crate::coco::{self, CocoMasks, CocoView};
-use crate::config::{Clamping, Colouring, Config, CropConfig, MAX_VIEWS, Variant};
+use crate::config::{Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, Variant};
 use crate::coverage::{Surface, overlap};
 use crate::error::Result;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
 use crate::rig::camera_poses;
+use crate::silhouette::Silhouette;
 
 thread_local! {
     /// This thread's last region scan, whose buffer its next reuses: a megapixel buffer mapped
@@ -441,19 +442,25 @@ impl Sample {
         format!("{:06}_{variant}_{}", self.index, self.level.name())
     }
 
-    /// View `k`'s COCO image (its colour image among `files`) and annotations, when `masks`
+    /// View `k`'s COCO image (its colour image among `files`) and annotations, when `output`
     /// asks for them and the view kept its scan.
-    fn coco(&self, k: usize, files: &[String], masks: CocoMasks) -> Option<CocoView> {
-        let scan = self.views[k].scan.as_ref()?;
+    fn coco(&self, k: usize, files: &[String], output: &OutputConfig) -> Option<CocoView> {
+        let view = &self.views[k];
+        let scan = view.scan.as_ref()?;
         let file_name = files.iter().find(|f| f.ends_with("rgb.png"))?.clone();
-        (masks != CocoMasks::Off).then(|| {
+        let targets = self.cell_of(view).targets(output.scheme);
+        let silhouette = |instance: u32| {
+            let target = targets.iter().find(|t| t.instance == instance)?;
+            Some(Silhouette::of(target, scan, &self.sensor))
+        };
+        (output.coco != CocoMasks::Off).then(|| {
             let image = coco::Image {
                 id: self.index * MAX_VIEWS + k as u64 + 1,
                 file_name,
                 width: scan.width as usize,
                 height: scan.height as usize,
             };
-            coco::annotate(scan, image, masks)
+            coco::annotate(scan, image, output.coco, &silhouette)
         })
     }
 
@@ -481,7 +488,7 @@ impl Sample {
                 points: v.cloud.len(),
                 overlap: self.overlap.as_ref().map(|o| o[k].clone()),
                 files: files.clone(),
-                coco: self.coco(k, files, out.coco),
+                coco: self.coco(k, files, out),
             })
             .collect();
         let objects = self

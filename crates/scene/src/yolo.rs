@@ -61,7 +61,7 @@ pub fn write_labels(w: &mut dyn Write, scan: &Scan, kind: Yolo) -> std::io::Resu
         width: scan.width as usize,
         height: scan.height as usize,
     };
-    for a in coco::annotate(scan, image, CocoMasks::Polygons).annotations {
+    for a in coco::annotate(scan, image, CocoMasks::Polygons, &|_| None).annotations {
         write!(w, "{}", a.category_id - 1)?;
         match kind {
             Yolo::Segment => {

@@ -563,3 +563,66 @@ fn an_armature_shows_its_shaft_laminations_windings_and_commutator() {
         assert!(share > 0.01, "{s:?}: {share}");
     }
 }
+
+/// Alone in a view, a part's silhouette is exactly its pixels in a noise-free scan (the same
+/// rays), and
+/// behind another part it is more than its visible pixels.
+#[test]
+fn a_parts_silhouette_alone_is_its_pixels_in_the_scan() {
+    use scene::silhouette::Silhouette;
+    use sensor::{Classes, SensorSpec, Target, World};
+    let params = ParamSpace::addon().sample(derive_seed(7, 5)).unwrap();
+    let motor = build(&params, Detail::Coarse);
+    let target = |kind: PartKind, instance: u32| {
+        let part = motor.parts.iter().find(|p| p.kind == kind).unwrap();
+        Target {
+            positions: part.mesh.positions.clone(),
+            triangles: part.mesh.triangles.clone(),
+            classes: Classes::Uniform(1),
+            instance,
+            material: sensor::Material::default(),
+            wear: None,
+        }
+    };
+    let (housing, cover) = (
+        target(PartKind::GearContainer, 1),
+        target(PartKind::Cover, 2),
+    );
+    // without noise: no flying pixels at the edges, each pixel its centre ray's surface
+    let spec = SensorSpec::preset("ideal").unwrap().binned(4);
+    let centre = motor.attributes.bounds.centre();
+    let pose = sensor::look_at(centre + Vec3::new(0.3, -0.4, 0.35), centre, Vec3::Z).unwrap();
+    let pixels = |scan: &sensor::Scan, instance: u32| -> Vec<(usize, usize)> {
+        let w = scan.width as usize;
+        (0..scan.pixels.len())
+            .filter(|&k| scan.pixels[k].instance == instance)
+            .map(|k| (k % w, k / w))
+            .collect()
+    };
+    let within = |s: &Silhouette| -> Vec<(usize, usize)> {
+        (0..s.inside.len())
+            .filter(|&k| s.inside[k])
+            .map(|k| (s.origin[0] + k % s.size[0], s.origin[1] + k / s.size[0]))
+            .collect()
+    };
+    let alone = sensor::scan(&World::new(std::slice::from_ref(&housing)), &spec, &pose, 1);
+    let s = Silhouette::of(&housing, &alone, &spec);
+    assert!(s.area() > 1000, "{}", s.area());
+    assert!(within(&s) == pixels(&alone, 1));
+    // with the cover on, the housing shows less than its silhouette
+    let both = sensor::scan(&World::new(&[housing.clone(), cover]), &spec, &pose, 1);
+    let seen = pixels(&both, 1);
+    let s = Silhouette::of(&housing, &both, &spec);
+    let outline = within(&s);
+    assert!(
+        seen.len() < outline.len(),
+        "{} of {}",
+        seen.len(),
+        outline.len()
+    );
+    assert!(seen.iter().all(|p| {
+        outline
+            .binary_search_by(|q| (q.1, q.0).cmp(&(p.1, p.0)))
+            .is_ok()
+    }));
+}

@@ -4,6 +4,9 @@
   fixed-size blocks of points as the AgiProbot networks take them;
 - :class:`MotorStream`: an iterable dataset that shards the sample indices over DataLoader
   workers and distributed ranks, endless or for a number of samples;
+- :class:`DetectionDataset`: a split's colour images with torchvision's detection targets
+  (boxes, labels, masks), for Mask R-CNN and its kin;
+- :func:`detection_collate`: batches detection samples as torchvision's models take them;
 - :func:`collate`: batches clouds of different sizes into one, with a batch index per point;
 - :func:`to_pyg`: a sample as a ``torch_geometric.data.Data`` (with PyTorch Geometric).
 
@@ -139,6 +142,73 @@ class MotorStream(IterableDataset):
                 sample = block(sample, self.num_points, (self.seed, index), self.normalize)
             yield self.transform(sample) if self.transform is not None else sample
             k += everyone
+
+
+def detection_target(view: Mapping[str, Any], index: int) -> "tuple[torch.Tensor, Dict[str, torch.Tensor]]":
+    """A view's colour image (3 x H x W float32 in 0..1) and its target in torchvision's
+    detection convention: ``boxes`` (K x 4 float32, x0 y0 x1 y1 in pixels, a pixel one unit
+    wide), ``labels`` (K int64, the scheme's class ids; 0, the background, is never an
+    object), ``masks`` (K x H x W uint8), ``instance`` (K int64, as in ``instances.png``),
+    ``area`` (K float32, pixels), ``iscrowd`` (K int64, zeros) and ``image_id`` (the sample's
+    index), one object per motor part in sight."""
+    labels = view["image_label"]
+    instances = view["image_instance"]
+    ids = np.unique(instances[labels != 0])
+    masks = instances[None, :, :] == ids[:, None, None]
+    boxes = np.zeros((len(ids), 4), dtype=np.float32)
+    classes = np.zeros(len(ids), dtype=np.int64)
+    for k, mask in enumerate(masks):
+        ys, xs = np.nonzero(mask)
+        boxes[k] = [xs.min(), ys.min(), xs.max() + 1, ys.max() + 1]
+        classes[k] = labels[ys[0], xs[0]]
+    image = torch.from_numpy(np.ascontiguousarray(view["image"].transpose(2, 0, 1))).float() / 255.0
+    target = {
+        "boxes": torch.from_numpy(boxes),
+        "labels": torch.from_numpy(classes),
+        "masks": torch.from_numpy(masks.astype(np.uint8)),
+        "instance": torch.from_numpy(ids.astype(np.int64)),
+        "area": torch.from_numpy(masks.sum(axis=(1, 2)).astype(np.float32)),
+        "iscrowd": torch.zeros(len(ids), dtype=torch.int64),
+        "image_id": index,
+    }
+    return image, target
+
+
+class DetectionDataset(Dataset):
+    """The colour images of one split of a configuration with their detection targets
+    (:func:`detection_target`), made when asked for, in-process like :class:`MotorDataset`:
+    each sample's first view, its images asked of the configuration (``output.images``).
+    ``transform`` takes and returns ``(image, target)``. ``num_classes`` counts the scheme's
+    classes with the background, as torchvision's models take it."""
+
+    def __init__(
+        self,
+        config: Config = "default",
+        split: Optional[str] = "train",
+        transform: Optional[Callable[[Any, Any], Any]] = None,
+        seed: Optional[int] = None,
+        overrides: Optional[Mapping[str, Any]] = None,
+        samples: Optional[int] = None,
+    ) -> None:
+        overrides = {**(overrides or {}), "output.images": True}
+        self.generator = Generator(config, seed=seed, overrides=overrides, samples=samples)
+        self.indices: List[int] = self.generator.indices(split)
+        self.transform = transform
+        self.num_classes = len(self.generator.classes)
+
+    def __len__(self) -> int:
+        return len(self.indices)
+
+    def __getitem__(self, k: int) -> Any:
+        index = self.indices[k]
+        image, target = detection_target(self.generator[index]["views"][0], index)
+        return self.transform(image, target) if self.transform is not None else (image, target)
+
+
+def detection_collate(batch: List[Any]) -> Any:
+    """Batches ``(image, target)`` pairs as torchvision's detection models take them: a tuple
+    of images and a tuple of targets."""
+    return tuple(zip(*batch))
 
 
 def collate(batch: List[Sample]) -> Sample:

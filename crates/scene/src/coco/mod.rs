@@ -17,6 +17,7 @@ pub use mask::{Mask, compressed};
 
 use crate::dataset::save;
 use crate::error::{Error, Result};
+use crate::silhouette::Silhouette;
 
 /// How COCO annotations are written.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -75,6 +76,10 @@ pub struct Annotation {
     pub segmentation: Segmentation,
     /// Always 0: every annotation is one object.
     pub iscrowd: u8,
+    /// The share of the part's silhouette (its pixels were nothing in front of it) that is in
+    /// sight: `area` over the silhouette's pixels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub visible_fraction: Option<f64>,
 }
 
 /// A COCO mask.
@@ -102,8 +107,14 @@ pub struct CocoView {
 }
 
 /// The annotations of `scan`'s image `image` (classes and instances of the surface under each
-/// pixel's centre; class 0, the background, left out), masks written as `masks` says.
-pub fn annotate(scan: &Scan, image: Image, masks: CocoMasks) -> CocoView {
+/// pixel's centre; class 0, the background, left out), masks written as `masks` says, each
+/// part's visible fraction from its silhouette where `silhouette` gives one.
+pub fn annotate(
+    scan: &Scan,
+    image: Image,
+    masks: CocoMasks,
+    silhouette: &dyn Fn(u32) -> Option<Silhouette>,
+) -> CocoView {
     let (w, h) = (scan.width as usize, scan.height as usize);
     // each instance's class and box
     let mut boxes: BTreeMap<u32, (u16, [usize; 4])> = BTreeMap::new();
@@ -142,6 +153,14 @@ pub fn annotate(scan: &Scan, image: Image, masks: CocoMasks) -> CocoView {
                     Segmentation::Polygons(vec![polygon])
                 }
             };
+            // the silhouette and the visible pixels outside it (where a ray's rounding differs)
+            let visible_fraction = silhouette(instance).map(|s| {
+                let outside = (0..bw * bh)
+                    .filter(|&k| inside[k])
+                    .filter(|&k| !s.contains(x0 + k % bw, y0 + k / bw))
+                    .count();
+                mask.area() as f64 / (s.area() + outside) as f64
+            });
             Annotation {
                 id: image.id * 65536 + u64::from(instance),
                 image_id: image.id,
@@ -151,6 +170,7 @@ pub fn annotate(scan: &Scan, image: Image, masks: CocoMasks) -> CocoView {
                 area: mask.area() as f64,
                 segmentation,
                 iscrowd: 0,
+                visible_fraction,
             }
         })
         .collect();
