@@ -1,0 +1,308 @@
+//! Zivid's processing settings (`Settings.Processing`): the filters the model applies.
+
+use serde::{Deserialize, Serialize};
+
+/// Zivid's processing settings (`Settings.Processing`), those the model makes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Processing {
+    /// `Processing.Filters`.
+    pub filters: Filters,
+}
+
+/// `Processing.Filters`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Filters {
+    /// `Processing.Filters.Noise`.
+    pub noise: NoiseFilter,
+    /// `Processing.Filters.Outlier`.
+    pub outlier: OutlierFilter,
+    /// `Processing.Filters.Reflection`.
+    pub reflection: ReflectionFilter,
+    /// `Processing.Filters.Cluster`.
+    pub cluster: ClusterFilter,
+    /// `Processing.Filters.Hole`.
+    pub hole: HoleFilter,
+    /// `Processing.Filters.Smoothing`.
+    pub smoothing: Smoothing,
+    /// `Processing.Filters.Experimental`.
+    pub experimental: ExperimentalFilters,
+}
+
+/// `Processing.Filters.Experimental`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ExperimentalFilters {
+    /// `Processing.Filters.Experimental.ContrastDistortion`.
+    pub contrast_distortion: ContrastDistortion,
+}
+
+/// `Processing.Filters.Experimental.ContrastDistortion`: what Zivid does against the contrast
+/// distortion (see [`Wings`](crate::noise::Wings)), on the points of a smooth surface pulled by
+/// a step of brightness within the blur (no depth edge, no dark pixel within its reach). Zivid
+/// estimates the pull from its images; the model takes it as the distance between the decoded
+/// column and the point's own.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContrastDistortion {
+    /// `...Correction`: moves each such point back towards its surface by `strength` (0 to 1)
+    /// of its pull.
+    pub correction: Correction,
+    /// `...Removal`: removes each such point whose pull, after the correction, exceeds
+    /// `threshold` stripe periods.
+    pub removal: Removal,
+}
+
+/// `Processing.Filters.Experimental.ContrastDistortion.Correction`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Correction {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// The share of the pull taken back, 0 to 1.
+    pub strength: f32,
+}
+
+impl ContrastDistortion {
+    /// Whether either filter runs.
+    pub fn is_on(&self) -> bool {
+        self.correction.enabled || self.removal.enabled
+    }
+
+    /// The column a point pulled from its own column `own` to `decoded` keeps after the
+    /// filters (`period` the stripes' period), or `None` where the removal takes it.
+    #[inline]
+    pub fn filter(&self, decoded: f32, own: f32, period: f32) -> Option<f32> {
+        let strength = if self.correction.enabled {
+            self.correction.strength
+        } else {
+            0.0
+        };
+        let column = decoded + strength * (own - decoded);
+        let removed =
+            self.removal.enabled && (column - own).abs() > self.removal.threshold * period;
+        (!removed).then_some(column)
+    }
+}
+
+/// `Processing.Filters.Hole`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HoleFilter {
+    /// `Processing.Filters.Hole.Repair`.
+    pub repair: HoleRepair,
+}
+
+/// `Processing.Filters.Hole.Repair`: fills holes. A pixel without a point gets one when points
+/// lie, along its row and its column, on at least `strictness` of its four sides within
+/// `hole_size` × the image's shorter side, and on both sides along the row or the column: on
+/// its own ray at the inverse depth interpolated between the two sides (exact on a plane; the
+/// mean of the row's and the column's where both have two), with its own surface's labels, or
+/// the nearest side's where it sees none, and the nearest side's colour.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HoleRepair {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// The widest hole filled, as a share of the image's shorter side (0 to 1).
+    pub hole_size: f32,
+    /// How many of the four sides must hold a point (1 to 4).
+    pub strictness: u32,
+}
+
+impl Default for HoleRepair {
+    /// Zivid's values, off.
+    fn default() -> HoleRepair {
+        HoleRepair {
+            enabled: false,
+            hole_size: 0.2,
+            strictness: 2,
+        }
+    }
+}
+
+/// `Processing.Filters.Cluster`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ClusterFilter {
+    /// `Processing.Filters.Cluster.Removal`.
+    pub removal: ClusterRemoval,
+}
+
+/// `Processing.Filters.Cluster.Removal`: removes the clusters of points whose area is below
+/// `min_area`, a cluster being the points joined through neighbouring pixels (8 around each)
+/// whose points lie within `max_neighbor_distance` of each other; a point's area is its pixel's
+/// footprint at its depth, as the camera sees it. It removes floating blobs (ghosts, wings cut
+/// off from their surface) and keeps surfaces.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ClusterRemoval {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// The largest distance between neighbouring points of one cluster, mm.
+    pub max_neighbor_distance: f32,
+    /// The smallest area a cluster keeps, mm².
+    pub min_area: f32,
+}
+
+impl Default for ClusterRemoval {
+    /// Zivid's values, off.
+    fn default() -> ClusterRemoval {
+        ClusterRemoval {
+            enabled: false,
+            max_neighbor_distance: 10.0,
+            min_area: 100.0,
+        }
+    }
+}
+
+/// `Processing.Filters.Reflection`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ReflectionFilter {
+    /// `Processing.Filters.Reflection.Removal`.
+    pub removal: ReflectionRemoval,
+}
+
+/// `Processing.Filters.Reflection.Removal`: removes the points whose light came from more than
+/// one surface (a surface's own light makes its patterns agree; the mirrored light of another
+/// surface, or the light of both sides of an edge, does not), by the test of its `mode`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ReflectionRemoval {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// Which test finds the mixed light.
+    pub mode: ReflectionMode,
+}
+
+/// `Processing.Filters.Reflection.Removal.Mode`. Zivid describes what each mode keeps, not its
+/// test; the tests here are assumed, each chosen to behave as Zivid describes its mode.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ReflectionMode {
+    /// Zivid's default: a point goes where a pattern's column and the coarser pattern's
+    /// disagree by more than a quarter of the finer pattern's period (the patterns'
+    /// unwrapping, over the whole field).
+    #[default]
+    Global,
+    /// The global test, and a point also goes where the finest and the middle pattern keep
+    /// shares of their modulation more than a quarter apart (each pixel's patterns against each
+    /// other): light from two columns, or blurred by a mirror's lobe, weakens the finer stripes
+    /// more. It finds the ghosts whose column unwraps to the right period, which the global
+    /// test keeps (Zivid: local mode leaves no ghost plane where global leaves a smaller one),
+    /// and removes more of a mixed surface's points. What Zivid says it keeps better (thin and
+    /// pointy objects) is not modelled.
+    Local,
+}
+
+impl ReflectionRemoval {
+    /// Whether the filter removes a point whose patterns' columns disagree by `mismatch`
+    /// periods (0 to 0.5) and whose finest and middle pattern keep `modulation` (finest over
+    /// middle, 1 for a single surface's light).
+    #[inline]
+    pub fn removes(&self, mismatch: f32, modulation: f32) -> bool {
+        const TOLERANCE: f32 = 0.25;
+        self.enabled
+            && match self.mode {
+                ReflectionMode::Global => mismatch > TOLERANCE,
+                ReflectionMode::Local => {
+                    mismatch > TOLERANCE || (modulation - 1.0).abs() > TOLERANCE
+                }
+            }
+    }
+}
+
+/// `Processing.Filters.Outlier`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutlierFilter {
+    /// `Processing.Filters.Outlier.Removal`: removes the points none of whose 8 neighbours
+    /// lies within `threshold` millimetres.
+    pub removal: Removal,
+}
+
+/// `Processing.Filters.Smoothing`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Smoothing {
+    /// `Processing.Filters.Smoothing.Gaussian`.
+    pub gaussian: Gaussian,
+}
+
+/// `Processing.Filters.Smoothing.Gaussian`: each point's depth becomes the Gaussian-weighted
+/// mean (σ `sigma` pixels, over the points within 2.5σ) of its neighbours', averaged as inverse
+/// depth (exact on a plane), the point staying on its ray. It lowers the noise and rounds edges.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Gaussian {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// σ of the weights, pixels.
+    pub sigma: f32,
+}
+
+/// `Processing.Filters.Noise`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NoiseFilter {
+    /// `Processing.Filters.Noise.Removal`.
+    pub removal: Removal,
+    /// `Processing.Filters.Noise.Repair`.
+    pub repair: Repair,
+    /// `Processing.Filters.Noise.Suppression`.
+    pub suppression: Suppression,
+}
+
+/// `Processing.Filters.Noise.Suppression`: smooths where the signal is weak. Each point whose
+/// SNR is below [`Suppression::BELOW`] takes the mean inverse depth of the points in the 5×5
+/// pixels around it that lie within 3σ of its depth (σ its SNR's range deviation, so a depth
+/// step stays sharp), staying on its ray: a dark, far or grazing surface's noise falls by up
+/// to 5×, a well lit one's is untouched. Zivid describes the filter (noise reduced in low-SNR
+/// regions) but not its kernel; the window and the level are assumed. It needs the SNR model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Suppression {
+    /// Whether the filter runs.
+    pub enabled: bool,
+}
+
+impl Suppression {
+    /// The SNR below which a point is smoothed (a white surface at the focus distance has
+    /// about 75, Zivid's noise filter removes below 7).
+    pub const BELOW: f32 = 20.0;
+}
+
+/// `Processing.Filters.Noise.Repair`: gives the points the noise filter removed back where
+/// their neighbours are a surface: a pixel whose surface the projector lights, removed for its
+/// SNR, with points in at least 6 of its 8 neighbours, gets a point on its own ray at their
+/// mean inverse depth (their colour's mean). A removed region wider than a pixel stays empty
+/// but for its rim.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Repair {
+    /// Whether the filter runs.
+    pub enabled: bool,
+}
+
+/// A filter that removes points by a threshold. `Processing.Filters.Noise.Removal` removes the
+/// points whose SNR ([`Snr`](crate::noise::Snr)) is below `threshold` (on a sensor that measures an SNR: with the
+/// SNR model off, it removes nothing); `Processing.Filters.Outlier.Removal` those farther than
+/// `threshold` millimetres from all their neighbours.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Removal {
+    /// Whether the filter runs.
+    pub enabled: bool,
+    /// The threshold.
+    pub threshold: f32,
+}
+
+impl Removal {
+    /// Whether the noise filter removes a point of SNR `value`.
+    #[inline]
+    pub fn removes(&self, value: f32) -> bool {
+        self.enabled && value < self.threshold
+    }
+}
