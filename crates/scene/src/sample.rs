@@ -445,6 +445,9 @@ impl Sample {
     /// View `k`'s COCO image (its colour image among `files`) and annotations, when `output`
     /// asks for them and the view kept its scan.
     fn coco(&self, k: usize, files: &[String], output: &OutputConfig) -> Option<CocoView> {
+        if output.coco == CocoMasks::Off {
+            return None;
+        }
         let view = &self.views[k];
         let scan = view.scan.as_ref()?;
         let file_name = files.iter().find(|f| f.ends_with("rgb.png"))?.clone();
@@ -453,15 +456,13 @@ impl Sample {
             let target = targets.iter().find(|t| t.instance == instance)?;
             Some(Silhouette::of(target, scan, &self.sensor))
         };
-        (output.coco != CocoMasks::Off).then(|| {
-            let image = coco::Image {
-                id: self.index * MAX_VIEWS + k as u64 + 1,
-                file_name,
-                width: scan.width as usize,
-                height: scan.height as usize,
-            };
-            coco::annotate(scan, image, output.coco, &silhouette)
-        })
+        let image = coco::Image {
+            id: self.index * MAX_VIEWS + k as u64 + 1,
+            file_name,
+            width: scan.width as usize,
+            height: scan.height as usize,
+        };
+        Some(coco::annotate(scan, image, output.coco, &silhouette))
     }
 
     /// Ground truth and provenance as a sample's JSON: motor parameters and attributes (motor

@@ -5,7 +5,7 @@ use crate::world::Material;
 
 /// A material of the depth model's `reflectivity`, `specular` share and `lobe`, and the colour
 /// renderer's base `colour`, `metallic` and `roughness` (specular level 0.5).
-const fn mat(
+pub(crate) const fn mat(
     reflectivity: f32,
     specular: f32,
     lobe: f32,

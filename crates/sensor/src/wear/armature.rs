@@ -5,7 +5,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::pattern::{draw, fbm};
-use crate::materials::{ELECTRICAL_STEEL, STAINLESS_STEEL};
+use crate::materials::{ELECTRICAL_STEEL, STAINLESS_STEEL, mat};
 use crate::world::Material;
 
 /// One surface of an armature.
@@ -48,26 +48,10 @@ pub const WIRE_CM: f32 = 0.03;
 pub const GAP: f32 = 0.1;
 
 /// Bare copper of a commutator's bars, polished by the brushes.
-const BAR: Material = Material {
-    reflectivity: 0.55,
-    specular: 0.6,
-    lobe: 0.15,
-    colour: [0.8, 0.45, 0.3],
-    metallic: 1.0,
-    roughness: 0.25,
-    ior_level: 0.5,
-};
+const BAR: Material = mat(0.55, 0.6, 0.15, [0.8, 0.45, 0.3], 1.0, 0.25);
 
 /// Mica between the bars: dark brown and matte.
-const MICA: Material = Material {
-    reflectivity: 0.1,
-    specular: 0.0,
-    lobe: 0.4,
-    colour: [0.08, 0.05, 0.03],
-    metallic: 0.0,
-    roughness: 0.7,
-    ior_level: 0.5,
-};
+const MICA: Material = mat(0.1, 0.0, 0.4, [0.08, 0.05, 0.03], 0.0, 0.7);
 
 impl Armature {
     /// The surface at texture coordinates `q` (on the armature).
@@ -136,7 +120,7 @@ impl Armature {
 const TOLERANCE: f32 = 0.005;
 
 /// `m` a factor `b` brighter: its colour and reflectivity.
-fn scaled(m: &Material, b: f32) -> Material {
+pub(super) fn scaled(m: &Material, b: f32) -> Material {
     Material {
         colour: m.colour.map(|c| (c * b).clamp(0.0, 1.0)),
         reflectivity: (m.reflectivity * b).clamp(0.0, 1.0),

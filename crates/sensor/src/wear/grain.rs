@@ -4,7 +4,7 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::armature::Armature;
+use super::armature::{Armature, scaled};
 use super::pattern::fbm;
 use crate::world::Material;
 
@@ -44,12 +44,9 @@ impl Grain {
             Grain::Moulded => (fbm(30.0 * q, 2.0, 0.5), 0.05),
         };
         let s = ((v - 0.5) / NOISE_SIGMA).clamp(-3.0, 3.0);
-        let brightness = 1.0 + depth * s;
         Some(Material {
-            colour: m.colour.map(|c| (c * brightness).clamp(0.0, 1.0)),
-            reflectivity: (m.reflectivity * brightness).clamp(0.0, 1.0),
             roughness: (m.roughness + 0.5 * depth * s).clamp(0.02, 1.0),
-            ..*m
+            ..scaled(m, 1.0 + depth * s)
         })
     }
 }
