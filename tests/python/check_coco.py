@@ -8,6 +8,7 @@ COCOeval of the ground truth against itself gives an AP of 1 for boxes and masks
 import contextlib
 import io
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -27,7 +28,7 @@ def check(path, kind):
     assert len({a["id"] for a in anns}) == len(anns), "annotation ids repeat"
     assert min(c["id"] for c in coco.loadCats(coco.getCatIds())) == 1, "categories are 1-based"
     for image in coco.loadImgs(coco.getImgIds()):
-        instances = np.array(Image.open(root / image["file_name"].replace("rgb.png", "instances.png")))
+        instances = np.array(Image.open(root / re.sub(r"rgb\.(png|jpg)$", "instances.png", image["file_name"])))
         rgb = Image.open(root / image["file_name"])
         assert rgb.size == (image["width"], image["height"]), (rgb.size, image)
         for ann in coco.loadAnns(coco.getAnnIds(imgIds=image["id"])):

@@ -13,7 +13,7 @@ use sensor::materials::{
 use sensor::wear::{Armature, Grain, Mask, Rust, Seats, Wear};
 use sensor::{Classes, Material, Target};
 
-use crate::config::{CellConfig, Clamping, Shift, WearConfig, WearMask};
+use crate::config::{CellConfig, Clamping, Shift, TableConfig, WearConfig, WearMask};
 use crate::fixture::{Fixture, fixture};
 
 /// One object of the cell.
@@ -190,6 +190,19 @@ pub struct Variation {
     pub clamping: Clamping,
 }
 
+/// The table's laminate in a colour and roughness drawn by `config`.
+fn table_material(config: &TableConfig, rng: &mut impl Rng) -> Material {
+    let [lo, hi] = config.colour.map(Vec3::from);
+    let share: f32 = rng.random();
+    let tint = Vec3::new(rng.random(), rng.random(), rng.random());
+    let t = Vec3::splat(share) * (1.0 - config.tint) + tint * config.tint;
+    Material {
+        colour: (lo + (hi - lo) * t).to_array(),
+        roughness: config.roughness.sample(rng),
+        ..LAMINATE
+    }
+}
+
 /// Thickness of the base plate, m.
 const PLATE: f32 = 0.012;
 
@@ -342,6 +355,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
         cuboid(Vec3::new(-0.6, -0.6, -0.02), Vec3::new(0.6, 0.6, 0.0)),
         LAMINATE,
     );
+    let table = objects.len() - 1;
     for (name, mesh, material) in fixture(&held, &motor_box, PLATE, &shifts) {
         add(&mut objects, name.into(), mesh, material);
     }
@@ -387,6 +401,8 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
             );
         }
     }
+    // drawn last: the table's look leaves the draws before it alone
+    objects[table].material = table_material(&config.table, rng);
     Cell {
         objects,
         motor_to_world,

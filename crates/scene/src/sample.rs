@@ -9,14 +9,17 @@ use motorgen::{Motor, ParamSpace, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
+use sensor::render::{Lighting, Settings, render};
 use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Place, Split, place};
 use crate::cell::{Cell, Variation, compose, transform_box, turned_with_motor};
 use crate::coco::{self, CocoMasks, CocoView};
-use crate::config::{Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, Variant};
+use crate::config::{
+    Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, RenderConfig, Variant,
+};
 use crate::coverage::{Surface, overlap};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
 use crate::rig::camera_poses;
 use crate::silhouette::Silhouette;
@@ -46,6 +49,10 @@ pub(crate) enum Seed {
     Scan(u64),
     /// View `k`'s jitter after cropping.
     Jitter(u64),
+    /// The lights of the sample's rendered colour images.
+    Lighting,
+    /// View `k`'s rendered colour image: its exposure, motion and paths.
+    Render(u64),
 }
 
 impl Seed {
@@ -60,8 +67,10 @@ impl Seed {
             Seed::Cover => 5,
             Seed::Surface => 6,
             Seed::Reclamp => 7,
+            Seed::Lighting => 8,
             Seed::Scan(k) => 100 + k,
             Seed::Jitter(k) => 200 + k,
+            Seed::Render(k) => 300 + k,
         };
         derive_seed(sample, stream)
     }
@@ -91,7 +100,7 @@ impl Recipe {
     /// # Errors
     ///
     /// The errors of [`Config::check`](crate::Config::check), and
-    /// [`Error::Config`](crate::Error::Config) for a sensor that does not resolve.
+    /// [`Error::Config`] for a sensor that does not resolve.
     pub fn new(config: Config, sweep: Vec<(String, toml::Value)>) -> Result<Recipe> {
         config.check()?;
         let spaces = config.param_spaces()?;
@@ -120,7 +129,7 @@ impl Recipe {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample
+    /// [`Error::Config`] when the motor's parameters drawn for this sample
     /// do not form a valid motor.
     pub fn motor(&self, index: u64) -> Result<(u64, Motor)> {
         let seed = derive_seed(self.config.seed, index);
@@ -245,7 +254,7 @@ fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
 ///
 /// # Errors
 ///
-/// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample do not
+/// [`Error::Config`] when the motor's parameters drawn for this sample do not
 /// form a valid motor.
 pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let config = &recipe.config;
@@ -290,7 +299,12 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         .map(|c| World::new(&c.targets(config.output.scheme)))
         .collect();
     let out = &config.output;
-    let whole = out.scene_cloud || out.images;
+    // a rendered colour image covers the frame
+    let whole = out.scene_cloud || out.images || config.render.enabled;
+    let lighting = config.render.enabled.then(|| {
+        let centre = cell.motor_centre.with_z(0.0);
+        config.lighting.draw(centre, &mut Seed::Lighting.rng(seed))
+    });
     let views = poses
         .into_iter()
         .enumerate()
@@ -312,7 +326,11 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             // cropping loses nothing
             let region = (!whole).then(|| region_around(&crop, &pose, &sensor));
             let earlier = EARLIER.take();
-            let s = scan_reusing(world, &sensor, &pose, noise_seed, region.as_ref(), earlier);
+            let mut s = scan_reusing(world, &sensor, &pose, noise_seed, region.as_ref(), earlier);
+            if let Some(lighting) = &lighting {
+                let mut draws = Seed::Render(v as u64).rng(seed);
+                render_colour(&mut s, world, &sensor, lighting, &config.render, &mut draws)?;
+            }
             let mut jitter = Seed::Jitter(v as u64).rng(seed);
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
             // exact points in the first cell's frame, the motor moved back
@@ -338,9 +356,9 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
                 scene_cloud,
                 scan,
             };
-            (view, exact)
+            Ok((view, exact))
         })
-        .collect::<Vec<_>>();
+        .collect::<Result<Vec<_>>>()?;
     let (views, exact): (Vec<View>, Vec<Option<Vec<Vec3>>>) = views.into_iter().unzip();
     let overlap = out.overlap.then(|| {
         let surface = Surface::sample_all(&cell.objects, OVERLAP_DENSITY, Seed::Surface.of(seed));
@@ -363,6 +381,51 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         views,
         overlap,
     })
+}
+
+/// The mean luminance an automatic exposure brings a frame to.
+const MID_GREY: f32 = 0.18;
+
+/// Replaces `scan`'s colour image by one path-traced of `world` under `lighting` (the scan's
+/// intrinsics and pose, the lens of the sensor's colour camera), exposed and moved as `config`
+/// draws from `rng`, developed by the sensor's colour camera.
+fn render_colour(
+    scan: &mut Scan,
+    world: &World,
+    sensor: &SensorSpec,
+    lighting: &Lighting,
+    config: &RenderConfig,
+    rng: &mut impl Rng,
+) -> Result<()> {
+    let k = &sensor.intrinsics;
+    let travel = config.motion.sample(rng);
+    let angle = rng.random_range(0.0..std::f32::consts::TAU);
+    let mut exposure = config.exposure.sample(rng).exp2();
+    let settings = Settings {
+        samples: config.samples,
+        bounces: config.bounces,
+        seed: rng.random(),
+        aperture: sensor.colour.aperture_radius(k),
+        focus: sensor.colour.focus,
+        motion: [travel * angle.cos(), travel * angle.sin(), 0.0],
+    };
+    let mut frame = render(world, k, &scan.pose, lighting, &settings)
+        .map_err(|e| Error::Config(e.to_string()))?;
+    if config.auto_exposure {
+        let luminance = |p: &[f32; 3]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        let mean = frame.pixels.iter().map(luminance).sum::<f32>() / frame.pixels.len() as f32;
+        if mean > 0.0 {
+            exposure *= MID_GREY / mean;
+        }
+    }
+    for p in &mut frame.pixels {
+        *p = p.map(|c| c * exposure);
+    }
+    let rgb = sensor.colour.develop(k, &frame, rng.random());
+    for (p, c) in scan.pixels.iter_mut().zip(rgb) {
+        p.rgb = c;
+    }
+    Ok(())
 }
 
 /// The region of pixels a scan from `pose` needs to measure the points in `b` (world) as a
@@ -450,7 +513,8 @@ impl Sample {
         }
         let view = &self.views[k];
         let scan = view.scan.as_ref()?;
-        let file_name = files.iter().find(|f| f.ends_with("rgb.png"))?.clone();
+        let rgb = output.image_format.rgb_name();
+        let file_name = files.iter().find(|f| f.ends_with(rgb))?.clone();
         let targets = self.cell_of(view).targets(output.scheme);
         let silhouette = |instance: u32| {
             let target = targets.iter().find(|t| t.instance == instance)?;

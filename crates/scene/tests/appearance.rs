@@ -276,6 +276,7 @@ fn compare(name: &str, spec: &Spec) -> Row {
         samples: spec.samples,
         bounces: 4,
         seed: 0,
+        ..Settings::default()
     };
     let ours = render(&world, &camera, &pose, &spec.lighting, &settings)
         .unwrap()

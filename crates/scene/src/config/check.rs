@@ -101,8 +101,26 @@ impl Config {
                 "[first, last] of the rust types 1 to 9, first <= last",
             ));
         }
+        let t = &c.table;
+        for (key, value) in t.colour.iter().flatten().map(|v| ("cell.table.colour", *v)) {
+            if !(0.0..=1.0).contains(&value) {
+                return Err(Error::invalid(key, value, "linear RGB channels of 0 to 1"));
+            }
+        }
+        share("cell.table.tint", t.tint)?;
+        t.roughness.check("cell.table.roughness", 0.0, 1.0)?;
         self.check_camera()?;
-        self.sensor.resolve()?;
+        let sensor = self.sensor.resolve()?;
+        if self.render.enabled && sensor.colour.offset != [0.0; 3] {
+            return Err(Error::invalid(
+                "render.enabled",
+                true,
+                format!(
+                    "false on {}, whose colour camera is not its depth camera (render with a colour camera preset)",
+                    sensor.name
+                ),
+            ));
+        }
         let k = &self.crop;
         for (key, s, lo, hi) in [
             ("crop.x_min", &k.x_min, -1.0, 0.0),
@@ -163,6 +181,15 @@ impl Config {
                 "\"off\" unless output.images = true (YOLO labels the colour images)",
             ));
         }
+        if !(1..=100).contains(&self.output.jpeg_quality) {
+            return Err(Error::invalid(
+                "output.jpeg_quality",
+                self.output.jpeg_quality,
+                "1 to 100",
+            ));
+        }
+        self.render.check()?;
+        self.lighting.check()?;
         sweep::Combinations::new(&self.sweep)?;
         Ok(())
     }

@@ -3,19 +3,20 @@
 //! overrides), its checks (`check`) and parameter sweeps (`sweep`).
 
 mod check;
+mod output;
+mod render;
 mod sweep;
 mod table;
 mod words;
 
-use motorgen::{Detail, ParamSpace, PartKind, Scheme};
+use motorgen::{Detail, ParamSpace, PartKind};
 use rand::{Rng, RngExt};
-use sensor::formats::CloudFormat;
-use sensor::{Frame, Noise, Sampling, SensorSpec, Units};
+use sensor::{Noise, Sampling, SensorSpec};
 
-use crate::coco::CocoMasks;
-use crate::yolo::Yolo;
 use serde::{Deserialize, Serialize};
 
+pub use output::{Colouring, ImageFormat, Layout, MAX_VIEWS, OutputConfig};
+pub use render::{LightingConfig, RenderConfig};
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
 pub use table::{
     BUILTIN, builtin_table, default_table, named_table, overlay, parse_value, set_key,
@@ -300,6 +301,21 @@ pub struct CellConfig {
     pub occluders: OccluderConfig,
     /// Corrosion.
     pub wear: WearConfig,
+    /// The table's look, drawn per sample.
+    pub table: TableConfig,
+}
+
+/// `[cell.table]`: the table's look, drawn per sample (domain randomisation).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableConfig {
+    /// The lowest and the highest linear RGB colour: each channel drawn between, the same
+    /// share of the way for all three (a grey stays grey).
+    pub colour: [[f32; 3]; 2],
+    /// Each channel drawn on its own share of the way (0: the colour's hue is fixed).
+    pub tint: f32,
+    /// Roughness (Principled BSDF).
+    pub roughness: Span,
 }
 
 /// How camera poses are chosen.
@@ -461,65 +477,6 @@ pub struct AugmentConfig {
     pub noisy: LevelConfig,
 }
 
-/// The most views a sample has (`camera.views`).
-pub const MAX_VIEWS: u64 = 64;
-
-/// `[output]`: what each sample writes.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct OutputConfig {
-    /// Formats of the cropped cloud.
-    pub formats: Vec<CloudFormat>,
-    /// Frame of the written points.
-    pub frame: Frame,
-    /// Units of the written points.
-    pub units: Units,
-    /// Label scheme.
-    pub scheme: Scheme,
-    /// Write the exact (noise-free) points instead of the measured ones.
-    pub clean: bool,
-    /// Also write the whole scene's cloud (uncropped) in the first format.
-    pub scene_cloud: bool,
-    /// Also write depth, normal, label, instance and intensity images.
-    pub images: bool,
-    /// COCO instance annotations of the colour images (with `images`): `off`, `polygons` or
-    /// `rle`.
-    pub coco: CocoMasks,
-    /// Ultralytics YOLO labels of the colour images (with `images`): `off`, `detect` or
-    /// `segment`.
-    pub yolo: Yolo,
-    /// What the points' rgb holds.
-    pub colour: Colouring,
-    /// Also record, for every pair of views, the share of each view's motor points whose
-    /// surface the other view also measured (registration pairs' overlap).
-    pub overlap: bool,
-    /// How the samples' files are laid out in folders.
-    pub layout: Layout,
-}
-
-/// How a dataset's sample files are laid out.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Layout {
-    /// `train/` and `validation/`, every file of a sample in its split's folder.
-    SplitFolders,
-    /// A folder per kind of file (`npy/`, `ply/`, `pcd/`, `npz/` for the clouds, `scene/`,
-    /// `images/`, `json/`), the split at the start of each name (`Training_…`,
-    /// `Validation_…`), as KIT's AgiProbot loaders read a folder of clouds.
-    Flat,
-}
-
-/// What the points' rgb holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Colouring {
-    /// The colour the camera's colour image records.
-    Camera,
-    /// The class's colour of the label scheme, for looking at labels: it gives the label
-    /// away, so a network must not be fed it.
-    Class,
-}
-
 /// A whole dataset configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -542,6 +499,10 @@ pub struct Config {
     pub augment: AugmentConfig,
     /// Outputs.
     pub output: OutputConfig,
+    /// How the colour image is made.
+    pub render: RenderConfig,
+    /// The lights of a rendered colour image.
+    pub lighting: LightingConfig,
     /// Parameter sweep: every combination of the listed keys' values (sample i takes
     /// combination i mod count).
     #[serde(default)]

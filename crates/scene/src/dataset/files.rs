@@ -7,7 +7,7 @@ use super::folder::save;
 use super::{Dataset, Row};
 use crate::augment::Split;
 use crate::claim::plain_dir;
-use crate::config::Layout;
+use crate::config::{ImageFormat, Layout};
 use crate::error::Result;
 use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample};
@@ -53,9 +53,14 @@ impl Dataset {
                         let scan = view.scan.as_ref().expect("a view with a scan");
                         save(&path, &|w| (sensor::formats::IMAGES[k].1)(w, scan))
                     }
-                    ViewFile::YoloImage => {
+                    ViewFile::Colour(format) => {
                         let scan = view.scan.as_ref().expect("a view with a scan");
-                        save(&path, &|w| sensor::formats::write_rgb_png(w, scan))
+                        save(&path, &|w| match format {
+                            ImageFormat::Png => sensor::formats::write_rgb_png(w, scan),
+                            ImageFormat::Jpeg => {
+                                sensor::formats::write_rgb_jpeg(w, scan, out.jpeg_quality)
+                            }
+                        })
                     }
                     ViewFile::YoloLabels(kind) => {
                         let scan = view.scan.as_ref().expect("a view with a scan");
@@ -99,8 +104,8 @@ enum ViewFile {
     SceneCloud(CloudFormat),
     /// An image of the scan ([`sensor::formats::IMAGES`], by index).
     Image(usize),
-    /// The colour image in the YOLO folder.
-    YoloImage,
+    /// The colour image in a format (beside the other images, or in the YOLO folder).
+    Colour(ImageFormat),
     /// Its YOLO labels.
     YoloLabels(Yolo),
 }
@@ -112,8 +117,8 @@ impl ViewFile {
             ViewFile::Cloud(CloudFormat::PcdAscii) => CloudFormat::Pcd.name(),
             ViewFile::Cloud(f) => f.name(),
             ViewFile::SceneCloud(_) => "scene",
-            ViewFile::Image(_) => "images",
-            ViewFile::YoloImage | ViewFile::YoloLabels(_) => yolo::FOLDER,
+            ViewFile::Image(_) | ViewFile::Colour(_) => "images",
+            ViewFile::YoloLabels(_) => yolo::FOLDER,
         }
     }
 }
@@ -179,8 +184,16 @@ fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> 
                 files.push((name, ViewFile::SceneCloud(f)));
             }
             if view.scan.is_some() {
-                for (k, (name, _)) in sensor::formats::IMAGES.iter().enumerate() {
-                    files.push((format!("{view_stem}_{name}"), ViewFile::Image(k)));
+                for (k, &(name, _)) in sensor::formats::IMAGES.iter().enumerate() {
+                    let file = if name == ImageFormat::Png.rgb_name() {
+                        (
+                            out.image_format.rgb_name(),
+                            ViewFile::Colour(out.image_format),
+                        )
+                    } else {
+                        (name, ViewFile::Image(k))
+                    };
+                    files.push((format!("{view_stem}_{}", file.0), file.1));
                 }
             }
             let mut files: Vec<(String, ViewFile)> = files
@@ -192,7 +205,11 @@ fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> 
                 let at = |kind: &str, ext: &str| {
                     format!("{}/{kind}/{split}/{view_stem}.{ext}", yolo::FOLDER)
                 };
-                files.push((at("images", "png"), ViewFile::YoloImage));
+                let ext = match out.image_format {
+                    ImageFormat::Png => "png",
+                    ImageFormat::Jpeg => "jpg",
+                };
+                files.push((at("images", ext), ViewFile::Colour(out.image_format)));
                 files.push((at("labels", "txt"), ViewFile::YoloLabels(out.yolo)));
             }
             files

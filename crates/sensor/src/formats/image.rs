@@ -126,6 +126,27 @@ pub fn write_rgb_png(w: &mut dyn Write, scan: &Scan) -> Result<()> {
     png(w, scan, png::ColorType::Rgb, png::BitDepth::Eight, &data)
 }
 
+/// The camera's colour image as a baseline JPEG of `quality` (1 to 100; 4:2:0 chroma), as
+/// [`write_rgb_png`] holds it losslessly.
+///
+/// # Errors
+///
+/// Any error of writing to `w`, and a size JPEG cannot hold (above 65535 pixels a side).
+pub fn write_rgb_jpeg(w: &mut dyn Write, scan: &Scan, quality: u8) -> Result<()> {
+    let data: Vec<u8> = scan.pixels.iter().flat_map(|p| p.rgb).collect();
+    let size = |n: u32| u16::try_from(n).map_err(std::io::Error::other);
+    let mut bytes = Vec::new();
+    jpeg_encoder::Encoder::new(&mut bytes, quality.clamp(1, 100))
+        .encode(
+            &data,
+            size(scan.width)?,
+            size(scan.height)?,
+            jpeg_encoder::ColorType::Rgb,
+        )
+        .map_err(std::io::Error::other)?;
+    w.write_all(&bytes)
+}
+
 /// 8-bit grey share of rust, 0..1 as 0..255, on the surface each pixel's centre ray meets.
 ///
 /// # Errors

@@ -2,7 +2,8 @@
 //! at every surface point (point and rectangular lights, multiple importance sampling with the
 //! BSDF for the rectangles) and a uniform environment, Blender's Principled BSDF as the surface
 //! model ([`Material`]'s colour, metallic, roughness and specular level), flat shading, a box
-//! filter over each pixel. Every sample is a pure function of (seed, pixel, sample), so an image
+//! filter over each pixel, a thin lens's depth of field and the camera's motion over the
+//! exposure. Every sample is a pure function of (seed, pixel, sample), so an image
 //! has the same bytes for any thread count; it is measured against Cycles in
 //! `docs/appearance.md`.
 //!
@@ -34,6 +35,14 @@ pub struct Settings {
     pub bounces: u32,
     /// Seed of the samples.
     pub seed: u64,
+    /// Radius of the lens's aperture, m: 0 for a pinhole; otherwise a thin lens focused at
+    /// `focus` (see [`ColourCamera::aperture_radius`](crate::ColourCamera::aperture_radius)).
+    pub aperture: f32,
+    /// Distance of the plane in focus along the camera's axis, m.
+    pub focus: f32,
+    /// How far the camera moves during the exposure, in its own frame, m (motion blur); the
+    /// pose is the exposure's middle.
+    pub motion: [f32; 3],
 }
 
 impl Default for Settings {
@@ -42,6 +51,9 @@ impl Default for Settings {
             samples: 64,
             bounces: 4,
             seed: 0,
+            aperture: 0.0,
+            focus: 1.0,
+            motion: [0.0; 3],
         }
     }
 }
@@ -67,7 +79,14 @@ impl Settings {
                 allowed: "0 to 64".into(),
             });
         }
-        Ok(())
+        let [mx, my, mz] = self.motion;
+        crate::spec::within([
+            ("render.aperture", self.aperture, 0.0..=1.0, "0 to 1 m"),
+            ("render.focus", self.focus, 0.01..=1000.0, "0.01 to 1000 m"),
+            ("render.motion", mx, -1.0..=1.0, "-1 to 1 m per axis"),
+            ("render.motion", my, -1.0..=1.0, "-1 to 1 m per axis"),
+            ("render.motion", mz, -1.0..=1.0, "-1 to 1 m per axis"),
+        ])
     }
 }
 
@@ -107,9 +126,12 @@ const DRAWS_PER_VERTEX: u64 = 16;
 pub const MAX_LIGHTS: usize = 6;
 /// Offset of a ray leaving a surface along its normal, metres.
 const EPSILON: f32 = 2e-5;
+/// The draws of a camera ray's lens point and time, beyond those of any path's vertices.
+const CAMERA_DRAWS: u64 = 1 << 20;
 
-/// Renders what a pinhole camera of `intrinsics` at camera-to-world `pose` (x right, y down,
-/// z forward) sees of `world` under `lighting`.
+/// Renders what a camera of `intrinsics` at camera-to-world `pose` (x right, y down, z
+/// forward) sees of `world` under `lighting`: a pinhole, or a thin lens of
+/// [`Settings::aperture`]; the pose at the middle of the exposure.
 ///
 /// # Errors
 ///
@@ -159,6 +181,7 @@ pub fn render(
         settings: *settings,
     };
     let (width, height) = (intrinsics.width as usize, intrinsics.height as usize);
+    let motion = Vec3::from(settings.motion);
     let mut pixels = vec![[0.0f32; 3]; width * height];
     pixels
         .par_chunks_mut(width)
@@ -173,8 +196,10 @@ pub fn render(
                         col as f64 - 0.5 + f64::from(rng.uniform(0)),
                         row as f64 - 0.5 + f64::from(rng.uniform(1)),
                     );
-                    let dir = pose.transform_vector3(intrinsics.ray(u, v));
-                    sum += scene.path(pose.translation.into(), dir.normalize(), rng);
+                    let (origin, dir) = camera_ray(intrinsics.ray(u, v), settings, motion, rng);
+                    let (origin, dir) =
+                        (pose.transform_point3(origin), pose.transform_vector3(dir));
+                    sum += scene.path(origin, dir.normalize(), rng);
                 }
                 *px = (sum / settings.samples as f32).to_array();
             }
@@ -184,6 +209,28 @@ pub fn render(
         height: intrinsics.height,
         pixels,
     })
+}
+
+/// A camera ray in the camera's frame for the pinhole ray `pinhole` (unit): from a point of a
+/// thin lens's aperture through the pinhole ray's point on the plane in focus, and from where
+/// the camera is at a moment of the exposure.
+#[inline]
+fn camera_ray(pinhole: Vec3, settings: &Settings, motion: Vec3, rng: PixelRng) -> (Vec3, Vec3) {
+    let mut origin = Vec3::ZERO;
+    let mut dir = pinhole;
+    if settings.aperture > 0.0 {
+        // a uniform point of the aperture's disc
+        let r = settings.aperture * rng.uniform(CAMERA_DRAWS).sqrt();
+        let phi = std::f32::consts::TAU * rng.uniform(CAMERA_DRAWS + 1);
+        let lens = Vec3::new(r * phi.cos(), r * phi.sin(), 0.0);
+        let focused = pinhole * (settings.focus / pinhole.z);
+        origin = lens;
+        dir = (focused - lens).normalize();
+    }
+    if motion != Vec3::ZERO {
+        origin += motion * (rng.uniform(CAMERA_DRAWS + 2) - 0.5);
+    }
+    (origin, dir)
 }
 
 struct Scene<'a> {

@@ -112,6 +112,7 @@ fn a_lambertian_plane_under_a_point_light_is_albedo_over_pi_times_irradiance() {
         samples: 4,
         bounces: 0,
         seed: 1,
+        ..Settings::default()
     };
     let image = render(&world, &camera, &pose, &lighting, &settings).unwrap();
     for (col, row) in [(32, 32), (5, 40), (60, 3)] {
@@ -151,6 +152,7 @@ fn a_rectangle_light_gives_the_irradiance_of_its_form_factor() {
         samples: 256,
         bounces: 0,
         seed: 2,
+        ..Settings::default()
     };
     let image = render(&world, &camera, &pose, &lighting, &settings).unwrap();
     let got = centre_mean(&image, &camera, 1.0, 0.02).x;
@@ -259,4 +261,144 @@ fn bad_settings_and_lights_are_refused_in_words() {
         environment: [0.0; 3],
     };
     assert!(refused(Settings::default(), &flat).contains("rectangle"));
+}
+
+/// A plane at z = 0 lit by a uniform environment of radiance 1: white where x > 0, black
+/// where x < 0 (white Lambertian reflects exactly 1 with one bounce: cosine sampling's weight
+/// is its albedo).
+fn step_edge() -> (World, Lighting) {
+    let white = shapes::rectangle(Vec3::new(1.0, 0.0, 0.0), Vec3::X, Vec3::Y * 2.0);
+    let black = shapes::rectangle(Vec3::new(-1.0, 0.0, 0.0), Vec3::X, Vec3::Y * 2.0);
+    let world = World::new(&[
+        Target::from_triangles(&white, 1, 1, lambert(1.0)),
+        Target::from_triangles(&black, 2, 2, lambert(0.0)),
+    ]);
+    let lighting = Lighting {
+        lights: vec![],
+        environment: [1.0; 3],
+    };
+    (world, lighting)
+}
+
+/// The profile across the step edge along the middle row: (world x where the pixel's centre
+/// ray meets the plane, radiance), for a camera looking down from `height`.
+fn edge_profile(settings: &Settings, camera: &Intrinsics, height: f32) -> Vec<(f32, f32)> {
+    let (world, lighting) = step_edge();
+    let pose = above(height);
+    let image = render(&world, camera, &pose, &lighting, settings).unwrap();
+    let row = camera.height / 2;
+    (0..camera.width)
+        .map(|col| {
+            let r = pose.transform_vector3(camera.ray(f64::from(col), f64::from(row)));
+            let x = pose.translation.x + r.x * (height / -r.z);
+            (x, image.pixels[(row * camera.width + col) as usize][0])
+        })
+        .collect()
+}
+
+/// The mean over a pixel's width `pixel` (its box filter) of `f` about `x`.
+fn boxed(f: impl Fn(f32) -> f32, x: f32, pixel: f32) -> f32 {
+    (0..64)
+        .map(|k| f(x + pixel * ((k as f32 + 0.5) / 64.0 - 0.5)))
+        .sum::<f32>()
+        / 64.0
+}
+
+#[test]
+fn a_thin_lens_blurs_an_edge_out_of_focus_by_its_circle_of_confusion() {
+    // an edge 0.5 m away, the lens focused at 0.25 m: each pixel sees a disc of the plane of
+    // radius R |1 - d/s| about its pinhole point, so the edge's profile is the share of that
+    // disc beyond the edge
+    let (height, focus, aperture) = (0.5f32, 0.25f32, 0.02f32);
+    let camera = Intrinsics::from_fov(64, 4, 30.0, 2.0);
+    let settings = Settings {
+        samples: 1024,
+        bounces: 1,
+        seed: 3,
+        aperture,
+        focus,
+        ..Settings::default()
+    };
+    let radius = aperture * (1.0 - height / focus).abs();
+    let disc = |x: f32| {
+        let t = (x / radius).clamp(-1.0, 1.0);
+        0.5 + (t * (1.0 - t * t).sqrt() + t.asin()) / PI
+    };
+    let pixel = height / camera.fx as f32;
+    let profile = edge_profile(&settings, &camera, height);
+    let mut blurred = 0;
+    for &(x, got) in &profile {
+        let expected = boxed(disc, x, pixel);
+        assert!(
+            (got - expected).abs() < 0.04,
+            "x {x:.4} m: {got:.3} against {expected:.3}"
+        );
+        blurred += usize::from(got > 0.05 && got < 0.95);
+    }
+    // the blur spans the disc's diameter, 2 R |1 - d/s| / pixel, about 15 pixels
+    let width = 2.0 * radius / pixel;
+    assert!(
+        (blurred as f32 - width).abs() <= 3.0,
+        "{blurred} px vs {width}"
+    );
+    // in focus, the edge is as sharp as a pinhole's
+    let sharp = edge_profile(
+        &Settings {
+            focus: height,
+            ..settings
+        },
+        &camera,
+        height,
+    );
+    assert!(sharp.iter().filter(|p| p.1 > 0.05 && p.1 < 0.95).count() <= 2);
+}
+
+#[test]
+fn motion_over_the_exposure_smears_an_edge_into_a_ramp() {
+    // the camera moving 8 mm across an edge 0.5 m away: each pixel averages the plane over an
+    // 8 mm stretch, a linear ramp
+    let (height, travel) = (0.5f32, 0.008f32);
+    let camera = Intrinsics::from_fov(64, 4, 30.0, 2.0);
+    let settings = Settings {
+        samples: 512,
+        bounces: 1,
+        seed: 4,
+        motion: [travel, 0.0, 0.0],
+        ..Settings::default()
+    };
+    let ramp = |x: f32| (x / travel + 0.5).clamp(0.0, 1.0);
+    let pixel = height / camera.fx as f32;
+    for (x, got) in edge_profile(&settings, &camera, height) {
+        // the camera's x runs along the world's -x or +x: the ramp is symmetric about the edge
+        let expected = boxed(ramp, x, pixel);
+        assert!(
+            (got - expected).abs() < 0.05,
+            "x {x:.4} m: {got:.3} against {expected:.3}"
+        );
+    }
+}
+
+#[test]
+fn lens_and_motion_out_of_range_are_refused() {
+    let (world, lighting) = step_edge();
+    let camera = Intrinsics::from_fov(8, 8, 30.0, 30.0);
+    for (settings, key) in [
+        (
+            Settings {
+                aperture: -0.1,
+                ..Settings::default()
+            },
+            "render.aperture",
+        ),
+        (
+            Settings {
+                motion: [0.0, f32::NAN, 0.0],
+                ..Settings::default()
+            },
+            "render.motion",
+        ),
+    ] {
+        let e = render(&world, &camera, &above(1.0), &lighting, &settings).unwrap_err();
+        assert!(e.to_string().contains(key), "{e}");
+    }
 }

@@ -126,7 +126,7 @@ impl<'a> Capture<'a> {
                 cols,
                 rows: band_rows,
             },
-            colour: Response::new(&sensor.colour),
+            colour: Response::new(&sensor.colour, &sensor.intrinsics),
             stale,
             path,
         }

@@ -42,7 +42,7 @@ impl LitPixel {
     #[inline]
     pub(super) fn in_shadow(self, setup: &Capture, px: &mut Pixel) -> Option<LitPixel> {
         if let Some(ambient) = self.ambient {
-            px.rgb = setup.colour.record(ambient, self.rng);
+            px.rgb = setup.colour.record(ambient, self.pixel, self.rng);
         }
         self.shadowed(setup.sensor)
     }
@@ -85,6 +85,7 @@ pub(super) fn illuminate(
     let k = &sensor.intrinsics;
     let noise = &sensor.noise;
     let rng = PixelRng::new(seed, (row * k.width as usize + col) as u64);
+    let pixel = [col as u32, row as u32];
     let normal = Vec3::from(*to_camera * glam::Vec3A::from(hit.normal));
     *px = Pixel {
         clean: centre * hit.t,
@@ -126,7 +127,7 @@ pub(super) fn illuminate(
             // it): the ambient light alone
             if !frustum.lights(surface) || normal.dot(l) <= 0.0 {
                 if seen_by_colour {
-                    px.rgb = setup.colour.record(colour(None).ambient, rng);
+                    px.rgb = setup.colour.record(colour(None).ambient, pixel, rng);
                 }
                 return None;
             }
@@ -142,7 +143,7 @@ pub(super) fn illuminate(
     // light alone ([`LitPixel::in_shadow`])
     let seen = colour(Some((light_dir, falloff)));
     if seen_by_colour {
-        px.rgb = setup.colour.record(seen.ambient + seen.flash, rng);
+        px.rgb = setup.colour.record(seen.ambient + seen.flash, pixel, rng);
     }
     // the diffuse reflection and the highlight about the mirror direction
     let highlight = if material.specular > 0.0 && noise.specular.saturation > 0.0 {
@@ -168,7 +169,7 @@ pub(super) fn illuminate(
         0.0
     };
     Some(LitPixel {
-        pixel: [col as u32, row as u32],
+        pixel,
         centre,
         t: hit.t,
         signal,

@@ -5,6 +5,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
+use crate::camera::Intrinsics;
 
 /// What a capture records in its colour image.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -60,6 +61,18 @@ pub struct ColourCamera {
     /// Whether the sensor's own light (the projector's flash) lights the colour image: not an
     /// infrared projector's.
     pub flash: bool,
+    /// Share of the light the lens loses at the image's corners (vignetting), 0 to 0.9: a
+    /// pixel loses this times the square of its distance from the principal point over the
+    /// farthest corner's.
+    pub vignetting: f32,
+    /// The lens's f-number, 0 for a pinhole (everything sharp): with `focus` and `pixel_um`
+    /// it sets a rendered image's depth of field.
+    pub f_number: f32,
+    /// Distance the lens is focused at, along the camera's axis, m.
+    pub focus: f32,
+    /// The imager's pixel pitch, µm: the lens's focal length is the focal length in pixels
+    /// times this.
+    pub pixel_um: f32,
 }
 
 impl Default for ColourCamera {
@@ -75,6 +88,10 @@ impl Default for ColourCamera {
             noise: 0.01,
             offset: [0.0; 3],
             flash: true,
+            vignetting: 0.0,
+            f_number: 0.0,
+            focus: 1.0,
+            pixel_um: 3.45,
         }
     }
 }
@@ -110,6 +127,20 @@ impl ColourCamera {
                 "two gains of 0.25 to 8",
             ),
             ("colour.noise", self.noise, 0.0..=1.0, "0 to 1"),
+            ("colour.vignetting", self.vignetting, 0.0..=0.9, "0 to 0.9"),
+            (
+                "colour.f_number",
+                self.f_number,
+                0.0..=64.0,
+                "0 (a pinhole) to 64",
+            ),
+            ("colour.focus", self.focus, 0.01..=1000.0, "0.01 to 1000 m"),
+            (
+                "colour.pixel_um",
+                self.pixel_um,
+                0.1..=100.0,
+                "0.1 to 100 µm",
+            ),
             (
                 "colour.offset",
                 self.offset[0],
@@ -135,6 +166,16 @@ impl ColourCamera {
     /// The ambient light's linear sRGB colour at luminance 1.
     pub fn ambient_colour(&self) -> Vec3 {
         blackbody(self.ambient_kelvin)
+    }
+
+    /// The radius of the lens's aperture, m, on a camera of `intrinsics`: half the focal length
+    /// (`fx` × `pixel_um`) over the f-number; 0 for a pinhole.
+    pub fn aperture_radius(&self, intrinsics: &Intrinsics) -> f32 {
+        if self.f_number == 0.0 {
+            return 0.0;
+        }
+        let focal = intrinsics.fx as f32 * self.pixel_um * 1e-6;
+        focal / self.f_number / 2.0
     }
 }
 

@@ -208,7 +208,7 @@ impl CalibrationError {
 }
 
 /// Checks that each (key, value, range, what the range allows) has its value in its range.
-fn within<'a>(
+pub(crate) fn within<'a>(
     checks: impl IntoIterator<Item = (&'a str, f32, std::ops::RangeInclusive<f32>, &'a str)>,
 ) -> Result<(), Error> {
     for (key, value, range, allowed) in checks {
@@ -292,13 +292,16 @@ impl SensorSpec {
     }
 
     /// This sensor with camera `intrinsics`, `factor` times fewer pixels along each axis: its
-    /// noise correlates, and its blur spreads, over as many fewer pixels.
+    /// noise correlates, and its blur spreads, over as many fewer pixels, and its pixels are
+    /// `factor` times wider.
     fn fewer_pixels(&self, factor: u32, intrinsics: Intrinsics) -> SensorSpec {
         let mut spec = self.clone();
         spec.intrinsics = intrinsics;
         let length = &mut spec.noise.correlated.length_px;
         *length = (*length / factor as f32).max(1.0);
         spec.noise.wings.psf_px /= factor as f32;
+        // a binned or subsampled pixel spans `factor` of the imager's along each axis
+        spec.colour.pixel_um *= factor as f32;
         spec
     }
 

@@ -12,7 +12,7 @@ use crate::camera::{Distortion, Intrinsics};
 use crate::noise::{Axial, Correlated, Interreflection, Noise, Snr, Specular, Wings};
 
 /// The preset names.
-pub const PRESETS: [&str; 12] = [
+pub const PRESETS: [&str; 14] = [
     "zivid-one-plus-m",
     "zivid-2-m70",
     "zivid-2-l100",
@@ -24,22 +24,43 @@ pub const PRESETS: [&str; 12] = [
     "zivid-2plus-lr110",
     "blensor-tof",
     "kinect-v1",
+    "realsense-d435-rgb",
+    "industrial-5mp",
     "ideal",
 ];
+
+/// A colour camera's image: lit by the room (it has no light of its own), the lens's
+/// vignetting and aperture, the imager's pixel pitch; focused at `focus`.
+const fn room_lit(
+    noise: f32,
+    vignetting: f32,
+    f_number: f32,
+    focus: f32,
+    pixel_um: f32,
+) -> ColourCamera {
+    ColourCamera {
+        capture: ColourCapture::TwoDThreeD,
+        monochrome: false,
+        exposure: 0.0,
+        ambient: 0.5,
+        ambient_kelvin: 4000.0,
+        gain: 1.0,
+        white_balance: [1.0, 1.0],
+        noise,
+        offset: [0.0; 3],
+        flash: false,
+        vignetting,
+        f_number,
+        focus,
+        pixel_um,
+    }
+}
 
 /// The Kinect v1's RGB camera, registered to its depth: 2.5 cm from the infrared camera towards
 /// the projector, lit by the room (the infrared pattern does not show), noisier than a Zivid's.
 const KINECT_RGB: ColourCamera = ColourCamera {
-    capture: ColourCapture::TwoDThreeD,
-    monochrome: false,
-    exposure: 0.0,
-    ambient: 0.5,
-    ambient_kelvin: 4000.0,
-    gain: 1.0,
-    white_balance: [1.0, 1.0],
-    noise: 0.02,
     offset: [0.025, 0.0, 0.0],
-    flash: false,
+    ..room_lit(0.02, 0.0, 0.0, 1.0, 5.2)
 };
 
 /// Zivid 2: the camera's and the projector's full resolution.
@@ -229,6 +250,17 @@ impl SensorSpec {
     /// - `kinect-v1`: Blensor's `kinect` parameters: 640×480, 55.64°×43.18°, baseline 0.075 m,
     ///   0.7-6 m, 1/8 px disparity, 9×9 window; disparity noise 1/6 px as SimKinect (Handa 2014);
     ///   the RGB camera 2.5 cm beside the infrared one, registered to its pixels, lit by the room.
+    /// - `realsense-d435-rgb`: the Intel RealSense D435's colour camera (its datasheet: an
+    ///   OmniVision OV2740, 1920×1080 pixels of 1.4 µm, 69.4°×42.5°, f/2.0, fixed focus,
+    ///   distortion ≤ 1.5 %, rolling shutter): the fields give its focal length, the principal
+    ///   point at the centre and no distortion (Intel calibrates each unit); its focus at 1 m,
+    ///   its vignetting (a quarter of the light at the corners) and its noise (σ 0.015) are
+    ///   assumed. Its depth is exact (the colour camera, not the stereo pair).
+    /// - `industrial-5mp`: a generic industrial 5 MP C-mount camera, a 2/3" imager of
+    ///   2448×2048 pixels of 3.45 µm (Sony IMX250/264 class) behind a 12 mm lens at f/4
+    ///   (fx 3478 px, 38.8°×33.0°) focused at 0.8 m; its Brown–Conrady distortion (k1 -0.10,
+    ///   k2 0.15, p1 1e-4, p2 -1e-4: about -1.5 % at the corners), vignetting (15 %) and noise
+    ///   (σ 0.008) are assumed, typical of such lenses and imagers. Its depth is exact.
     /// - `ideal`: the Zivid 2+ M60 camera with no noise and no projector.
     ///
     /// # Errors
@@ -370,6 +402,42 @@ impl SensorSpec {
                     Noise::default(),
                     (0.7, 6.0),
                     1.5,
+                )
+            },
+            "realsense-d435-rgb" => SensorSpec {
+                colour: room_lit(0.015, 0.25, 2.0, 1.0, 1.4),
+                ..spec(
+                    name,
+                    Intrinsics::from_fov(1920, 1080, 69.4, 42.5),
+                    Model::Ideal,
+                    Noise::default(),
+                    (0.05, 20.0),
+                    1.0,
+                )
+            },
+            "industrial-5mp" => SensorSpec {
+                colour: room_lit(0.008, 0.15, 4.0, 0.8, 3.45),
+                ..spec(
+                    name,
+                    Intrinsics {
+                        width: 2448,
+                        height: 2048,
+                        fx: 12.0 / 3.45e-3,
+                        fy: 12.0 / 3.45e-3,
+                        cx: 1223.5,
+                        cy: 1023.5,
+                        distortion: Distortion {
+                            k1: -0.10,
+                            k2: 0.15,
+                            k3: 0.0,
+                            p1: 1e-4,
+                            p2: -1e-4,
+                        },
+                    },
+                    Model::Ideal,
+                    Noise::default(),
+                    (0.05, 20.0),
+                    0.8,
                 )
             },
             "ideal" => spec(

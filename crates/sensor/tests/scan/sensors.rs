@@ -25,6 +25,43 @@ fn presets_are_valid_and_unknown_ones_are_refused() {
 }
 
 #[test]
+fn colour_camera_presets_have_their_published_optics() {
+    let d435 = SensorSpec::preset("realsense-d435-rgb").unwrap();
+    let k = &d435.intrinsics;
+    assert_eq!((k.width, k.height), (1920, 1080));
+    let (h, v) = k.fov_deg();
+    assert!(
+        (h - 69.4).abs() < 1e-6 && (v - 42.5).abs() < 1e-6,
+        "{h} {v}"
+    );
+    // its 1.88 mm lens over 1.4 µm pixels, within the field's ±3° tolerance
+    assert!((k.fx * 1.4e-3 / 1.88 - 1.0).abs() < 0.05, "{}", k.fx);
+    // f/2 of 1.94 mm: an aperture of 0.49 mm radius
+    let r = d435.colour.aperture_radius(k);
+    assert!(
+        (r - k.fx as f32 * 1.4e-6 / 4.0).abs() < 1e-9 && r > 4.5e-4,
+        "{r}"
+    );
+    assert!(!d435.colour.flash && matches!(d435.model, Model::Ideal));
+
+    let c = SensorSpec::preset("industrial-5mp").unwrap();
+    let k = &c.intrinsics;
+    assert_eq!((k.width, k.height), (2448, 2048));
+    // 12 mm over 3.45 µm pixels; f/4: 1.5 mm
+    assert!((k.fx - 12.0 / 3.45e-3).abs() < 1e-6);
+    assert!((c.colour.aperture_radius(k) - 1.5e-3).abs() < 1e-7);
+    // barrel distortion: a corner's ray lands 1 to 2 % nearer the centre than a pinhole's
+    let ray = k.ray(0.0, 0.0);
+    let pinhole = ((k.cx / k.fx).powi(2) + (k.cy / k.fy).powi(2)).sqrt();
+    let undistorted = f64::from(ray.x.hypot(ray.y) / ray.z);
+    let shrink = pinhole / undistorted - 1.0;
+    assert!((-0.02..-0.01).contains(&shrink), "{shrink}");
+    // binned 2×2: pixels twice as wide, the same lens
+    let binned = c.binned(2);
+    assert!((binned.colour.aperture_radius(&binned.intrinsics) - 1.5e-3).abs() < 1e-7);
+}
+
+#[test]
 fn impossible_intrinsics_are_refused() {
     let good = small_camera(100, 100, 100.0);
     for (bad, key) in [
