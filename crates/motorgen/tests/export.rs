@@ -259,7 +259,13 @@ fn label_schemes_cover_every_part_kind() {
                 scheme.classes().iter().any(|c| c.id == id),
                 "{scheme:?} has no class {id} for {kind:?}"
             );
-            assert_ne!(id, 0, "{kind:?} must not be background");
+            // the armature's surfaces are labelled apart from the parts
+            let surfaces_only = scheme == Scheme::Armature;
+            assert_eq!(
+                id == 0,
+                surfaces_only,
+                "{kind:?} background under {scheme:?}"
+            );
         }
     }
     // the schemes as the original datasets define them
@@ -273,4 +279,21 @@ fn label_schemes_cover_every_part_kind() {
     assert_eq!(Scheme::SynMotor.classes().len(), 7);
     assert_eq!(Scheme::Wacv.classes().len(), 6);
     assert_eq!(Scheme::InnerParts.classes().len(), 10);
+    // whole objects: an assembled motor is one motor, a part taken off is its kind
+    assert_eq!(Scheme::Objects.assembled(PartKind::Cover), 1);
+    assert_eq!(Scheme::Objects.id(PartKind::Cover), 3);
+    assert_eq!(Scheme::Objects.carrier(), 2);
+    assert_eq!(Scheme::SynMotor.carrier(), 0);
+    for (k, name) in ["shaft", "lamination_stack", "windings", "commutator"]
+        .iter()
+        .enumerate()
+    {
+        let id = Scheme::Armature.armature_surface(k);
+        assert_eq!(Scheme::Armature.classes()[id as usize].name, *name);
+    }
+    for scheme in Scheme::ALL {
+        for (i, c) in scheme.classes().iter().enumerate() {
+            assert_eq!(c.id as usize, i, "{scheme:?}");
+        }
+    }
 }

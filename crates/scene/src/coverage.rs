@@ -387,7 +387,7 @@ pub fn coverage(surface: &Surface, seen: &[bool]) -> (f32, Vec<(PartKind, f32)>)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cell::Cell;
+    use crate::cell::{Cell, Kind};
     use motorgen::Scheme;
     use motorgen::kernel::Mesh;
     use sensor::{Intrinsics, Model, Projector, World, look_at, materials};
@@ -420,6 +420,7 @@ mod tests {
         Object {
             name: "cube".into(),
             part: Some(PartKind::Cover),
+            kind: Kind::Assembled { motor: 2 },
             instance: 1,
             mesh: Mesh {
                 positions,
@@ -586,7 +587,7 @@ mod tests {
         motorgen::build(&params, motorgen::Detail::Normal)
             .parts
             .iter()
-            .map(|p| Object::part(p, &Affine3A::IDENTITY))
+            .map(|p| Object::part(p, &Affine3A::IDENTITY, Kind::Assembled { motor: 0 }))
             .collect()
     }
 

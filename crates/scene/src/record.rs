@@ -11,6 +11,7 @@ use sensor::{Frame, Material, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
 use crate::augment::{Level, Split};
+use crate::cell::Kind;
 use crate::coco::CocoView;
 use crate::config::{Clamping, Variant};
 
@@ -65,12 +66,15 @@ pub struct SampleJson {
 pub struct ObjectJson {
     /// Part or cell object name.
     pub name: String,
-    /// Instance id.
+    /// Instance id in the instance images (under `objects9` a motor's parts carry the whole
+    /// motor's).
     pub instance: u32,
     /// Class in the sample's scheme (0: background).
     pub class: u8,
     /// Part kind, for motor parts.
     pub part: Option<PartKind>,
+    /// What it is to the schemes of whole objects and of the armature's surfaces.
+    pub kind: Kind,
     /// Surface material (as varied by `cell.wear.variation`).
     pub material: Material,
     /// The wear drawn for it, when it has some.

@@ -13,10 +13,13 @@ use sensor::render::{Lighting, Settings, render};
 use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Place, Split, place};
-use crate::cell::{Cell, Variation, compose, transform_box, turned_with_motor};
+use crate::cell::{
+    Cell, Variation, bench, compose, handling, transfer_unit, transform_box, turned_with_motor,
+};
 use crate::coco::{self, CocoMasks, CocoView};
 use crate::config::{
-    Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, RenderConfig, Variant,
+    Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, RenderConfig, SceneKind,
+    Variant,
 };
 use crate::coverage::{Surface, overlap};
 use crate::error::{Error, Result};
@@ -53,6 +56,8 @@ pub(crate) enum Seed {
     Lighting,
     /// View `k`'s rendered colour image: its exposure, motion and paths.
     Render(u64),
+    /// The scene's `k`-th motor besides the sample's own (k from 1).
+    Extra(u64),
 }
 
 impl Seed {
@@ -71,6 +76,7 @@ impl Seed {
             Seed::Scan(k) => 100 + k,
             Seed::Jitter(k) => 200 + k,
             Seed::Render(k) => 300 + k,
+            Seed::Extra(k) => 1000 + k,
         };
         derive_seed(sample, stream)
     }
@@ -139,6 +145,19 @@ impl Recipe {
             self.config.motor.detail,
         );
         Ok((seed, motor))
+    }
+
+    /// Sample `index`'s `k`-th motor besides its own (k from 1: the transfer unit's and the
+    /// handling table's): its own draw of the parameters, of the next variant in turn.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] when the motor's parameters drawn do not form a valid motor.
+    pub fn extra_motor(&self, index: u64, k: usize) -> Result<Motor> {
+        let seed = derive_seed(self.config.seed, index);
+        let slot = (self.place(index).slot as usize + k) % self.spaces.len();
+        let params = self.spaces[slot].sample(Seed::Extra(k as u64).of(seed))?;
+        Ok(build(&params, self.config.motor.detail))
     }
 
     /// The sensor, its sampling applied.
@@ -268,7 +287,14 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         cover_removed,
         clamping: config.cell.clamping,
     };
-    let cell = compose(&motor, &config.cell, vary, &mut Seed::Cell.rng(seed));
+    let rng = &mut Seed::Cell.rng(seed);
+    let more = |k: usize| recipe.extra_motor(index, k);
+    let cell = match config.cell.scene {
+        SceneKind::Station => compose(&motor, &config.cell, vary, rng),
+        SceneKind::TransferUnit => transfer_unit(&motor, &more, &config.cell, rng)?,
+        SceneKind::Handling => handling(&motor, &more, &config.cell, rng)?,
+        SceneKind::Armature => bench(&motor, &config.cell, rng),
+    };
     let reclamped = config.cell.reclamp.then(|| {
         let other = Clamping::ALL.into_iter().find(|&c| c != vary.clamping);
         let vary = Variation {
@@ -562,9 +588,10 @@ impl Sample {
             .iter()
             .map(|o| ObjectJson {
                 name: o.name.clone(),
-                instance: o.instance,
-                class: o.part.map_or(0, |k| out.scheme.id(k)),
+                instance: o.instance_in(out.scheme),
+                class: o.class(out.scheme),
                 part: o.part,
+                kind: o.kind,
                 material: o.material,
                 wear: o.wear.as_ref().map(WearJson::of),
             })

@@ -29,7 +29,7 @@ fn the_configuration_reference_lists_every_key() {
     let mut keys = BTreeSet::new();
     leaves(&default_table(), "", &mut keys);
     // the keys the default leaves out: optional ones
-    let optional = ["sensor.spec", "sensor.noise", "sweep"];
+    let optional = ["sensor.spec", "sensor.noise", "sensor.colour", "sweep"];
     keys.extend(optional.map(String::from));
     assert_eq!(documented, keys);
     // each optional key is one the configuration accepts
@@ -48,7 +48,15 @@ fn the_configuration_reference_lists_every_key() {
         toml::from_str::<toml::Table>("s = [{ key = \"seed\", list = [1, 2] }]").unwrap()["s"]
             .clone();
     scene::set_key(&mut table, "sweep", sweep).unwrap();
+    let focus = toml::from_str("focus = 0.3").map(toml::Value::Table);
+    scene::set_key(&mut table, "sensor.colour", focus.unwrap()).unwrap();
     let config = Config::from_table(&table).unwrap();
     assert!(config.sensor.spec.is_some() && config.sensor.noise.is_some());
+    assert_eq!(config.sensor.resolve().unwrap().colour.focus, 0.3);
+    // an unknown colour key is refused, named
+    let typo = toml::from_str("fokus = 0.3").map(toml::Value::Table);
+    scene::set_key(&mut table, "sensor.colour", typo.unwrap()).unwrap();
+    let e = Config::from_table(&table).unwrap_err().to_string();
+    assert!(e.contains("sensor.colour") && e.contains("fokus"), "{e}");
     assert_eq!(config.sweep.len(), 1);
 }

@@ -515,7 +515,8 @@ fn an_armature_shows_its_shaft_laminations_windings_and_commutator() {
         glam::Quat::from_euler(glam::EulerRot::XYZ, 0.4, -1.1, 0.3),
         Vec3::new(0.2, -0.1, 0.05),
     );
-    let object = scene::cell::armature(&motor, &to_world).unwrap();
+    let object =
+        scene::cell::armature(&motor, &to_world, scene::cell::Kind::Loose, 0.0, 0).unwrap();
     let wear = object.wear.unwrap();
     let Grain::Armature(surfaces) = wear.grain else {
         panic!("{:?}", wear.grain)

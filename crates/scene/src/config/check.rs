@@ -21,11 +21,13 @@ impl Config {
         }
         self.param_spaces()?;
         share("motor.cover_removed", m.cover_removed)?;
-        if m.cover_removed > 0.0 && self.output.scheme != Scheme::InnerParts {
+        if m.cover_removed > 0.0
+            && !matches!(self.output.scheme, Scheme::InnerParts | Scheme::Objects)
+        {
             return Err(Error::invalid(
                 "motor.cover_removed",
                 m.cover_removed,
-                "0 unless output.scheme = \"inner10\" (the other schemes have no gear classes)",
+                "0 unless output.scheme = \"inner10\" or \"objects9\" (the other schemes have no gear classes)",
             ));
         }
         let c = &self.cell;
@@ -108,6 +110,9 @@ impl Config {
             }
         }
         share("cell.table.tint", t.tint)?;
+        c.transfer.check()?;
+        c.handling.check()?;
+        c.armature.check()?;
         t.roughness.check("cell.table.roughness", 0.0, 1.0)?;
         self.check_camera()?;
         let sensor = self.sensor.resolve()?;
@@ -240,7 +245,7 @@ impl Config {
     }
 }
 
-fn share(key: &str, x: f32) -> Result<()> {
+pub(super) fn share(key: &str, x: f32) -> Result<()> {
     if (0.0..=1.0).contains(&x) {
         Ok(())
     } else {

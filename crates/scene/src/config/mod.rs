@@ -5,6 +5,7 @@
 mod check;
 mod output;
 mod render;
+mod scenes;
 mod sweep;
 mod table;
 mod words;
@@ -17,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 pub use output::{Colouring, ImageFormat, Layout, MAX_VIEWS, OutputConfig};
 pub use render::{LightingConfig, RenderConfig};
+pub use scenes::{ArmatureConfig, HandlingConfig, SceneKind, TransferConfig};
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
 pub use table::{
     BUILTIN, builtin_table, default_table, named_table, overlay, parse_value, set_key,
@@ -285,6 +287,9 @@ impl Clamping {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CellConfig {
+    /// What the camera looks at: the station, the transfer unit, the handling table or the
+    /// armature.
+    pub scene: SceneKind,
     /// Largest rotation of the motor about world x (its axis), y and z, degrees (Euler XYZ,
     /// about the motor's centre).
     pub pose_jitter_deg: [f32; 3],
@@ -303,6 +308,12 @@ pub struct CellConfig {
     pub wear: WearConfig,
     /// The table's look, drawn per sample.
     pub table: TableConfig,
+    /// The transfer unit's carriers (`scene = "transfer-unit"`).
+    pub transfer: TransferConfig,
+    /// What lies on the handling table (`scene = "handling"`).
+    pub handling: HandlingConfig,
+    /// The armature on its own (`scene = "armature"`).
+    pub armature: ArmatureConfig,
 }
 
 /// `[cell.table]`: the table's look, drawn per sample (domain randomisation).
@@ -364,6 +375,9 @@ pub struct SensorConfig {
     pub spec: Option<SensorSpec>,
     /// Noise models replacing the sensor's own (every model off unless given).
     pub noise: Option<Noise>,
+    /// Keys of the sensor's colour camera set over its own (`[colour]` of a sensor file:
+    /// exposure, gain, lens, …), the rest kept.
+    pub colour: Option<toml::Table>,
     /// Which pixels make a point, by Zivid's names: `all`, `by2x2`, `by4x4`, `blueSubsample2x2`
     /// or `redSubsample2x2`.
     pub sampling: Sampling,
@@ -392,6 +406,14 @@ impl SensorConfig {
         };
         if let Some(noise) = self.noise {
             spec.noise = noise;
+        }
+        if let Some(keys) = &self.colour {
+            let mut colour = toml::Table::try_from(spec.colour)
+                .map_err(|e| Error::Config(format!("sensor.colour: {e}")))?;
+            overlay(&mut colour, keys.clone());
+            spec.colour = colour.try_into().map_err(|e: toml::de::Error| {
+                Error::Config(format!("sensor.colour: {}", in_words(e.message())))
+            })?;
         }
         let spec = spec
             .sampled(self.sampling)

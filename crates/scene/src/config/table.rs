@@ -53,7 +53,7 @@ pub fn parse_value(text: &str) -> toml::Value {
 
 /// The configurations shipped in `configs/` and built into the library: `(name, TOML)`, the
 /// default first. Every other configuration is laid over the default with [`overlay`].
-pub const BUILTIN: [(&str, &str); 6] = [
+pub const BUILTIN: [(&str, &str); 9] = [
     ("default", crate::DEFAULT_CONFIG),
     ("synmotor", include_str!("../../configs/synmotor.toml")),
     ("zivid", include_str!("../../configs/zivid.toml")),
@@ -69,6 +69,12 @@ pub const BUILTIN: [(&str, &str); 6] = [
         "sweep-noise",
         include_str!("../../configs/sweep-noise.toml"),
     ),
+    (
+        "transfer-unit",
+        include_str!("../../configs/transfer-unit.toml"),
+    ),
+    ("handling", include_str!("../../configs/handling.toml")),
+    ("armature", include_str!("../../configs/armature.toml")),
 ];
 
 /// The default configuration as a TOML table, every key present: the base that configurations

@@ -334,7 +334,7 @@ impl Dataset {
         let labels = serde_json::json!({
             "scheme": scheme,
             "classes": scheme.classes(),
-            "background": "table, fixture and mask panels are class 0",
+            "background": "everything the scheme names no class for (tables, fixtures, panels, conveyors, distractors) is class 0",
             "instances": "motor parts 1..k in build order (see each sample's objects), then the table, fixture parts and panels",
         });
         save(&out.join("labels.json"), &|w| write_json(w, &labels))?;

@@ -38,6 +38,12 @@ pub struct Armature {
     pub commutator: [f32; 2],
     /// The commutator's bars.
     pub bars: u32,
+    /// Share of the bars worn dark: burnt and oxidised under the brushes, 0 to 1.
+    #[serde(default)]
+    pub worn: f32,
+    /// Which bars wear (and the texture's other draws per bar).
+    #[serde(default)]
+    pub seed: u32,
 }
 
 /// Thickness of a lamination sheet, cm (0.5 mm electrical steel).
@@ -49,6 +55,9 @@ pub const GAP: f32 = 0.1;
 
 /// Bare copper of a commutator's bars, polished by the brushes.
 const BAR: Material = mat(0.55, 0.6, 0.15, [0.8, 0.45, 0.3], 1.0, 0.25);
+
+/// A worn bar: copper burnt and oxidised dark under the brushes, matte.
+const BURNT: Material = mat(0.15, 0.1, 0.4, [0.16, 0.07, 0.04], 0.6, 0.6);
 
 /// Mica between the bars: dark brown and matte.
 const MICA: Material = mat(0.1, 0.0, 0.4, [0.08, 0.05, 0.03], 0.0, 0.7);
@@ -103,12 +112,21 @@ impl Armature {
             ArmatureSurface::Commutator => {
                 let t = (turn / std::f32::consts::TAU).rem_euclid(1.0) * self.bars as f32;
                 let (bar, across) = (t.floor(), t - t.floor());
+                let bar = bar as i32 + self.seed as i32;
                 if across < GAP {
                     MICA
+                } else if draw(bar, 4) < self.worn {
+                    // burnt most along the brushes' track, the middle of the bar's length
+                    let middle = (2.0 * (q.z - self.commutator[0])
+                        / (self.commutator[1] - self.commutator[0]).max(1e-6)
+                        - 1.0)
+                        .abs();
+                    let streak = fbm(Vec3::new(40.0 * turn, 0.0, 0.5 * q.z), 2.0, 0.5);
+                    scaled(&BURNT, (0.8 + 0.5 * middle) * (0.9 + 0.2 * streak))
                 } else {
                     // each bar's own tarnish, a faint streak along the brushes' path
                     let streak = fbm(Vec3::new(40.0 * turn, 0.0, 0.5 * q.z), 2.0, 0.5);
-                    let b = (0.9 + 0.2 * draw(bar as i32, 3)) * (0.9 + 0.2 * streak);
+                    let b = (0.9 + 0.2 * draw(bar, 3)) * (0.9 + 0.2 * streak);
                     scaled(&BAR, b)
                 }
             }

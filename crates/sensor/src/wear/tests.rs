@@ -109,6 +109,8 @@ const ARMATURE: Armature = Armature {
     core: [1.0, 3.0],
     commutator: [4.0, 5.0],
     bars: 8,
+    worn: 0.0,
+    seed: 0,
 };
 
 /// The point at radius `r`, turned `turn` about the armature's axis, at height `z`.
@@ -189,4 +191,39 @@ fn laminations_wires_and_bars_repeat_at_their_pitch() {
     assert_eq!(gaps, 8);
     let mica = turn.iter().filter(|&&b| b < 0.1).count() as f32 / turn.len() as f32;
     assert!((mica - super::GAP).abs() < 0.01, "{mica}");
+}
+
+#[test]
+fn worn_bars_are_the_drawn_share_and_dark() {
+    let copper = crate::materials::COPPER;
+    let bars = |worn: f32, seed: u32| {
+        let a = Armature {
+            worn,
+            seed,
+            bars: 200,
+            ..ARMATURE
+        };
+        // each bar's middle, halfway along the commutator
+        (0..200)
+            .map(|k| {
+                let turn = (k as f32 + 0.55) / 200.0 * std::f32::consts::TAU;
+                luminance(Vec3::from(
+                    a.material(&copper, around(0.4, turn, 4.5)).colour,
+                ))
+            })
+            .collect::<Vec<f32>>()
+    };
+    let clean = bars(0.0, 0);
+    let darkest_clean = clean.iter().copied().fold(f32::INFINITY, f32::min);
+    for (worn, seed) in [(0.3, 0), (0.3, 9), (0.7, 1)] {
+        let seen = bars(worn, seed);
+        let dark = seen.iter().filter(|&&l| l < darkest_clean / 3.0).count();
+        assert!(
+            (dark as f32 / 200.0 - worn).abs() < 0.08,
+            "{worn} {seed}: {dark} of 200 dark"
+        );
+    }
+    // another seed wears other bars
+    assert_ne!(bars(0.3, 0), bars(0.3, 9));
+    assert!(bars(1.0, 0).iter().all(|&l| l < darkest_clean / 3.0));
 }

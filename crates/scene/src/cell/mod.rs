@@ -1,20 +1,55 @@
-//! The work cell: a table, the clamp fixture and the motor in it (lying cover up, or standing),
-//! with optional mask panels; every object a labelled, closed mesh in world coordinates (z up,
-//! table top z = 0).
+//! The scenes a sample's camera looks at, every object a labelled, closed mesh in world
+//! coordinates (z up): the disassembly station's work cell (`station`: a table, the clamp
+//! fixture and the motor in it, lying cover up or standing, with optional mask panels; table top
+//! z = 0), carriers on a roller conveyor's transfer unit (`transfer`), motors and the parts
+//! taken off them on a table (`handling`) and an armature on its own (`bench`).
 
-use glam::{Affine3A, EulerRot, Mat3, Vec2, Vec3};
-use motorgen::kernel::{Aabb, Extrusion, Mesh, cuboid, extrude};
+mod bench;
+mod handling;
+mod place;
+mod station;
+mod transfer;
+
+use glam::{Affine3A, Vec2, Vec3};
+use motorgen::kernel::{Aabb, Extrusion, Mesh, extrude};
 use motorgen::{Motor, Part, PartKind, Scheme};
 use rand::{Rng, RngExt};
 use sensor::materials::{
-    BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, MATTE_GREY, STAINLESS_STEEL,
-    WHITE_PLASTIC, ZINC_PLATED_STEEL,
+    BLACK_PA66, COPPER, FERRITE, GREY_PLASTIC, LAMINATE, STAINLESS_STEEL, WHITE_PLASTIC,
+    ZINC_PLATED_STEEL,
 };
-use sensor::wear::{Armature, Grain, Mask, Rust, Seats, Wear};
+use sensor::wear::{Armature, ArmatureSurface, Grain, Mask, Rust, Seats, Wear};
 use sensor::{Classes, Material, Target};
+use serde::{Deserialize, Serialize};
 
-use crate::config::{CellConfig, Clamping, Shift, TableConfig, WearConfig, WearMask};
-use crate::fixture::{Fixture, fixture};
+use crate::config::{Clamping, TableConfig, WearConfig, WearMask};
+
+pub use bench::bench;
+pub use handling::handling;
+pub use station::compose;
+pub(crate) use station::turned_with_motor;
+pub use transfer::transfer_unit;
+
+/// What an object is to the label schemes of whole objects (`objects9`) and of the armature's
+/// surfaces (`armature5`), beside the motor part it may be.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    /// A part of an assembled motor; the whole motor is instance `motor` under `objects9`.
+    Assembled {
+        /// The whole motor's instance id.
+        motor: u32,
+    },
+    /// A motor part taken off its motor.
+    Loose,
+    /// One surface of an armature on its own (0 shaft, 1 lamination stack, 2 windings,
+    /// 3 commutator).
+    Surface(ArmatureSurface),
+    /// A workpiece carrier or a small load carrier.
+    Carrier,
+    /// The rest: tables, fixtures, conveyors, panels, distractors.
+    Background,
+}
 
 /// One object of the cell.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,7 +58,10 @@ pub struct Object {
     pub name: String,
     /// The motor part it is, or `None` for background (table, fixture, panels).
     pub part: Option<PartKind>,
-    /// Instance id: the motor's part instances first, then the background objects.
+    /// What it is to the schemes of whole objects and surfaces.
+    pub kind: Kind,
+    /// Instance id: in the station, the motor's part instances first, then the background
+    /// objects; in the other scenes, objects in order.
     pub instance: u32,
     /// Closed mesh in world coordinates, m.
     pub mesh: Mesh,
@@ -34,11 +72,33 @@ pub struct Object {
 }
 
 impl Object {
-    /// Motor part `p` as an object, its mesh moved by `to_world`, of its part's material.
-    pub fn part(p: &Part, to_world: &Affine3A) -> Object {
+    /// Its label under `scheme`.
+    pub fn class(&self, scheme: Scheme) -> u8 {
+        match (self.kind, self.part) {
+            (Kind::Assembled { .. }, Some(k)) => scheme.assembled(k),
+            (Kind::Surface(s), _) => scheme.armature_surface(s as usize),
+            (Kind::Carrier, _) => scheme.carrier(),
+            (_, Some(k)) => scheme.id(k),
+            (_, None) => 0,
+        }
+    }
+
+    /// Its instance id under `scheme`: the whole motor's for a part of an assembled motor
+    /// under `objects9`, its own otherwise.
+    pub fn instance_in(&self, scheme: Scheme) -> u32 {
+        match self.kind {
+            Kind::Assembled { motor } if scheme.whole_motors() => motor,
+            _ => self.instance,
+        }
+    }
+
+    /// Motor part `p` as an object of `kind`, its mesh moved by `to_world`, of its part's
+    /// material.
+    pub fn part(p: &Part, to_world: &Affine3A, kind: Kind) -> Object {
         Object {
             name: p.name.clone(),
             part: Some(p.kind),
+            kind,
             instance: p.instance,
             mesh: p.mesh.clone().transformed(to_world),
             material: material(p.kind),
@@ -120,10 +180,16 @@ fn draw_wear(
     })
 }
 
-/// The armature of `motor` (motor frame to world `to_world`) as an object: its shaft, lamination
-/// stack, windings and commutator each its own material and texture (the windings' the
-/// add-on's).
-pub fn armature(motor: &Motor, to_world: &Affine3A) -> Option<Object> {
+/// The armature of `motor` (motor frame to world `to_world`) as an object of `kind`: its shaft,
+/// lamination stack, windings and commutator each its own material and texture (the windings'
+/// the add-on's), `worn` of the commutator's bars worn dark (which, by `seed`).
+pub fn armature(
+    motor: &Motor,
+    to_world: &Affine3A,
+    kind: Kind,
+    worn: f32,
+    seed: u32,
+) -> Option<Object> {
     let p = motor.parts.iter().find(|p| p.kind == PartKind::Armature)?;
     let a = motorgen::armature_layout(&motor.params);
     let texture = texture(p, to_world);
@@ -138,10 +204,12 @@ pub fn armature(motor: &Motor, to_world: &Affine3A) -> Option<Object> {
         core: a.core.map(|z| at(z).z),
         commutator: a.commutator.map(|z| at(z).z),
         bars: a.coils,
+        worn,
+        seed,
     };
     Some(Object {
         wear: Some(Wear::clean(texture, Grain::Armature(surfaces))),
-        ..Object::part(p, to_world)
+        ..Object::part(p, to_world, kind)
     })
 }
 
@@ -203,45 +271,6 @@ fn table_material(config: &TableConfig, rng: &mut impl Rng) -> Material {
     }
 }
 
-/// Thickness of the base plate, m.
-const PLATE: f32 = 0.012;
-
-/// The rotation that clamps a motor. Lying (`GearContainerUp`): its axis (motor +z) along world
-/// +x and its gear axis (out of the cover) along world +z. Standing (`PolePotUp`): its axis
-/// vertical with the pole pot's end up and the gear axis along world +x.
-fn orientation(motor: &Motor, clamping: Clamping) -> Mat3 {
-    let axis = Vec3::Z;
-    let gear = motor
-        .attributes
-        .gears
-        .first()
-        .map_or(Vec3::NEG_Y, |g| g.axis);
-    // motor-frame axes that go to world x, y, z
-    let (x, z) = match clamping {
-        Clamping::GearContainerUp => (axis, gear),
-        Clamping::PolePotUp => {
-            let centre = |k: PartKind| {
-                motor
-                    .parts
-                    .iter()
-                    .find(|p| p.kind == k)
-                    .map_or(Vec3::ZERO, |p| p.mesh.bounds().centre())
-            };
-            let up = (centre(PartKind::PolePot) - centre(PartKind::GearContainer)).z;
-            (gear, if up >= 0.0 { axis } else { -axis })
-        }
-    };
-    Mat3::from_cols(x, z.cross(x), z).transpose()
-}
-
-/// The part the fixture's jaws grip.
-fn gripped(clamping: Clamping) -> PartKind {
-    match clamping {
-        Clamping::GearContainerUp => PartKind::PolePot,
-        Clamping::PolePotUp => PartKind::GearContainer,
-    }
-}
-
 fn corners(b: &Aabb) -> [Vec3; 8] {
     std::array::from_fn(|i| {
         Vec3::new(
@@ -252,171 +281,12 @@ fn corners(b: &Aabb) -> [Vec3; 8] {
     })
 }
 
-/// `b` turned as the motor turns from lying (gear container up) into `clamping`, about
-/// `centre`, the motor's centre (the nominal turn, without the pose jitter).
-pub(crate) fn turned_with_motor(b: &Aabb, motor: &Motor, clamping: Clamping, centre: Vec3) -> Aabb {
-    let lying = orientation(motor, Clamping::GearContainerUp);
-    let turn = Affine3A::from_mat3(orientation(motor, clamping) * lying.transpose());
-    let about = Affine3A::from_translation(centre) * turn * Affine3A::from_translation(-centre);
-    transform_box(b, &about)
-}
-
 /// The box of `b` moved by `t`.
 pub fn transform_box(b: &Aabb, t: &Affine3A) -> Aabb {
     corners(b).iter().fold(Aabb::EMPTY, |acc, &c| {
         let p = t.transform_point3(c);
         acc.union(Aabb { min: p, max: p })
     })
-}
-
-fn draw(s: &Shift, rng: &mut impl Rng) -> Vec3 {
-    Vec3::new(s[0].sample(rng), s[1].sample(rng), s[2].sample(rng))
-}
-
-/// Composes a cell around `motor`. Every random draw comes from `rng`, in a fixed order.
-pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut impl Rng) -> Cell {
-    let lay = Affine3A::from_mat3(orientation(motor, vary.clamping));
-    let laid = transform_box(&motor.attributes.bounds, &lay);
-    let c = laid.centre();
-    let nominal =
-        Affine3A::from_translation(Vec3::new(-c.x, -c.y, PLATE + config.clearance - laid.min.z))
-            * lay;
-    let motor_centre = nominal.transform_point3(motor.attributes.bounds.centre());
-    let [jx, jy, jz] = config.pose_jitter_deg.map(|d| {
-        let d = d.to_radians();
-        if d > 0.0 {
-            rng.random_range(-d..=d)
-        } else {
-            0.0
-        }
-    });
-    let jitter = Affine3A::from_translation(motor_centre)
-        * Affine3A::from_mat3(Mat3::from_euler(EulerRot::XYZ, jx, jy, jz))
-        * Affine3A::from_translation(-motor_centre);
-    let motor_to_world = jitter * nominal;
-
-    let hidden = |k: PartKind| match k {
-        PartKind::Magnet | PartKind::Armature => true,
-        PartKind::Cover | PartKind::CoverBolt => vary.cover_removed,
-        PartKind::LowerGear | PartKind::UpperGear | PartKind::SingleGear => !vary.cover_removed,
-        _ => false,
-    };
-    let wear = &config.wear;
-    let mut objects: Vec<Object> = motor
-        .parts
-        .iter()
-        .filter(|p| !hidden(p.kind))
-        .map(|p| {
-            let mut o = Object::part(p, &motor_to_world);
-            if wear.enabled() {
-                o.wear = draw_wear(p, motor, &motor_to_world, wear, &mut o.material, rng);
-            }
-            o
-        })
-        .collect();
-
-    let grip = gripped(vary.clamping);
-    let held = motor
-        .parts
-        .iter()
-        .find(|p| p.kind == grip)
-        .map(|p| transform_box(&p.mesh.bounds(), &nominal))
-        .expect("every motor has a pole pot and a gear container");
-    let motor_box = transform_box(&motor.attributes.bounds, &nominal);
-    let mut shift = |s: &Shift| {
-        if vary.fixture_shift {
-            draw(s, rng)
-        } else {
-            Vec3::ZERO
-        }
-    };
-    let f = &config.fixture;
-    let shifts = Fixture {
-        fixed_jaw: shift(&f.fixed_jaw),
-        sliding_jaw: shift(&f.sliding_jaw),
-        pillar: shift(&f.pillar),
-        cylinder: shift(&f.cylinder),
-    };
-    let mut next = motor.parts.iter().map(|p| p.instance).max().unwrap_or(0) + 1;
-    let mut add = |objects: &mut Vec<Object>, name: String, mesh: Mesh, material: Material| {
-        objects.push(Object {
-            name,
-            part: None,
-            instance: next,
-            mesh,
-            material,
-            wear: None,
-        });
-        next += 1;
-    };
-    add(
-        &mut objects,
-        "table".into(),
-        cuboid(Vec3::new(-0.6, -0.6, -0.02), Vec3::new(0.6, 0.6, 0.0)),
-        LAMINATE,
-    );
-    let table = objects.len() - 1;
-    for (name, mesh, material) in fixture(&held, &motor_box, PLATE, &shifts) {
-        add(&mut objects, name.into(), mesh, material);
-    }
-    if vary.occluders {
-        let top = transform_box(&motor.attributes.bounds, &motor_to_world)
-            .max
-            .z;
-        let gears = &motor.attributes.gears;
-        let gearbox = gears.iter().map(|g| g.centre).sum::<Vec3>() / gears.len().max(1) as f32;
-        let gearbox = motor_to_world.transform_point3(gearbox);
-        let o = &config.occluders;
-        let count = rng.random_range(o.count[0]..=o.count[1]);
-        for i in 0..count {
-            let (a, b) = (o.size.sample(rng) / 2.0, o.size.sample(rng) / 2.0);
-            let spread = |rng: &mut _| {
-                if o.spread > 0.0 {
-                    RngExt::random_range(rng, -o.spread..=o.spread)
-                } else {
-                    0.0
-                }
-            };
-            let centre = Vec3::new(
-                gearbox.x + spread(rng),
-                gearbox.y + spread(rng),
-                top + o.height.sample(rng),
-            );
-            let tilt = o.tilt_deg.to_radians();
-            let tilt = if tilt > 0.0 {
-                rng.random_range(-tilt..=tilt)
-            } else {
-                0.0
-            };
-            let yaw = rng.random_range(0.0..std::f32::consts::TAU);
-            let pose = Affine3A::from_translation(centre)
-                * Affine3A::from_rotation_z(yaw)
-                * Affine3A::from_rotation_x(tilt);
-            let panel = cuboid(Vec3::new(-a, -b, -0.001), Vec3::new(a, b, 0.001));
-            add(
-                &mut objects,
-                format!("panel_{}", i + 1),
-                panel.transformed(&pose),
-                MATTE_GREY,
-            );
-        }
-    }
-    // drawn last: the table's look leaves the draws before it alone
-    objects[table].material = table_material(&config.table, rng);
-    Cell {
-        objects,
-        motor_to_world,
-        motor_centre,
-        clamping: vary.clamping,
-        fixture: [
-            ("fixed_jaw", shifts.fixed_jaw),
-            ("sliding_jaw", shifts.sliding_jaw),
-            ("pillar", shifts.pillar),
-            ("cylinder", shifts.sliding_jaw + shifts.cylinder),
-        ]
-        .map(|(n, s)| (n.to_string(), s))
-        .into(),
-    }
 }
 
 impl Cell {
@@ -427,8 +297,8 @@ impl Cell {
             .map(|o| Target {
                 positions: o.mesh.positions.clone(),
                 triangles: o.mesh.triangles.clone(),
-                classes: Classes::Uniform(o.part.map_or(0, |k| scheme.id(k)) as u16),
-                instance: o.instance,
+                classes: Classes::Uniform(u16::from(o.class(scheme))),
+                instance: o.instance_in(scheme),
                 material: o.material,
                 wear: o.wear,
             })
