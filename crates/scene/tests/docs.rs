@@ -29,7 +29,13 @@ fn the_configuration_reference_lists_every_key() {
     let mut keys = BTreeSet::new();
     leaves(&default_table(), "", &mut keys);
     // the keys the default leaves out: optional ones
-    let optional = ["sensor.spec", "sensor.noise", "sensor.colour", "sweep"];
+    let optional = [
+        "sensor.spec",
+        "sensor.noise",
+        "sensor.colour",
+        "sensor.resolution",
+        "sweep",
+    ];
     keys.extend(optional.map(String::from));
     assert_eq!(documented, keys);
     // each optional key is one the configuration accepts

@@ -197,6 +197,26 @@ impl Intrinsics {
         }
     }
 
+    /// The camera's image resized to `width`×`height`: scaled to cover it, square pixels kept,
+    /// and the excess cut off evenly on both sides (a network's input size); the scale is the
+    /// second value.
+    pub fn resized(&self, width: u32, height: u32) -> (Intrinsics, f64) {
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let scale = (f64::from(width) / w).max(f64::from(height) / h);
+        // pixel centres: the old edge at -0.5 stays at -0.5 before the cut
+        let at = |c: f64, old: f64, new: u32| (c + 0.5) * scale - 0.5 - (old * scale - f64::from(new)) / 2.0;
+        let k = Intrinsics {
+            width,
+            height,
+            fx: self.fx * scale,
+            fy: self.fy * scale,
+            cx: at(self.cx, w, width),
+            cy: at(self.cy, h, height),
+            distortion: self.distortion,
+        };
+        (k, scale)
+    }
+
     /// Unit direction, in the camera frame, of the ray through pixel coordinates (u, v).
     #[inline]
     pub fn ray(&self, u: f64, v: f64) -> Vec3 {

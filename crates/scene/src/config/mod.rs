@@ -381,6 +381,9 @@ pub struct SensorConfig {
     /// Which pixels make a point, by Zivid's names: `all`, `by2x2`, `by4x4`, `blueSubsample2x2`
     /// or `redSubsample2x2`.
     pub sampling: Sampling,
+    /// The image resized to `[width, height]` after the sampling (scaled to cover, centred,
+    /// the excess cut off), if given.
+    pub resolution: Option<[u32; 2]>,
 }
 
 impl SensorConfig {
@@ -415,9 +418,14 @@ impl SensorConfig {
                 Error::Config(format!("sensor.colour: {}", in_words(e.message())))
             })?;
         }
-        let spec = spec
+        let mut spec = spec
             .sampled(self.sampling)
             .map_err(|e| Error::Config(format!("sensor.{e}")))?;
+        if let Some([width, height]) = self.resolution {
+            spec = spec
+                .resized(width, height)
+                .map_err(|e| Error::Config(format!("sensor.{e}")))?;
+        }
         spec.validate()
             .map_err(|e| Error::Config(format!("sensor: {e}")))?;
         Ok(spec)

@@ -15,6 +15,8 @@ fn png(
     data: &[u8],
 ) -> Result<()> {
     let mut e = png::Encoder::new(w, scan.width, scan.height);
+    // fdeflate: several times faster than the default level, files a little larger
+    e.set_compression(png::Compression::Fast);
     e.set_color(color);
     e.set_depth(depth);
     let mut writer = e.write_header().map_err(std::io::Error::other)?;

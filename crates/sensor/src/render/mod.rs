@@ -30,7 +30,8 @@ pub use light::{Light, Lighting};
 pub struct Settings {
     /// Paths per pixel, 1 to 65536.
     pub samples: u32,
-    /// Surface interactions after the first that a path may have (0: direct light only),
+    /// Surface interactions after the first that a path may have (0: the light reaching the
+    /// first surface straight from the lights and the environment),
     /// 0 to 64.
     pub bounces: u32,
     /// Seed of the samples.
@@ -247,7 +248,11 @@ impl Scene<'_> {
         let mut throughput = Vec3::ONE;
         // the pdf of the BSDF sample that chose `dir` (none for the camera's ray)
         let mut bsdf_pdf: Option<f32> = None;
-        for vertex in 0..=u64::from(self.settings.bounces) {
+        // the vertex after the last bounce only gathers what its ray meets: a light (the BSDF's
+        // share of the last vertex's light, under multiple importance sampling) or the
+        // environment
+        let last = u64::from(self.settings.bounces);
+        for vertex in 0..=last + 1 {
             let draws = 2 + vertex * DRAWS_PER_VERTEX;
             let u = |k: u64| rng.uniform(draws + k);
             let hit = self.world.cast(origin, dir, f32::INFINITY);
@@ -266,6 +271,9 @@ impl Scene<'_> {
                 radiance += throughput * self.environment;
                 break;
             };
+            if vertex > last {
+                break;
+            }
             let x = origin + dir * hit.t;
             let wo = -dir;
             let Some(bsdf) = Bsdf::new(&hit.material, hit.normal, wo) else {
@@ -292,9 +300,6 @@ impl Scene<'_> {
                 } else {
                     throughput * f * value * (power_heuristic(pdf, pdf_bsdf) / pdf)
                 };
-            }
-            if vertex == u64::from(self.settings.bounces) {
-                break;
             }
             let Some(sampled) = bsdf.sample([u(0), u(1), u(2)]) else {
                 break;

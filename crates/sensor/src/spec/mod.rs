@@ -250,9 +250,41 @@ impl SensorSpec {
     /// colour image's noise falls by `factor`), and whose noise correlates, and whose blur
     /// spreads, over as many fewer pixels.
     pub fn binned(&self, factor: u32) -> SensorSpec {
-        let mut spec = self.fewer_pixels(factor, self.intrinsics.binned(factor));
-        spec.noise.snr.electrons *= (factor * factor) as f32;
-        spec.colour.noise /= factor as f32;
+        self.gathered(factor as f32, self.intrinsics.binned(factor))
+    }
+
+    /// This sensor's image resized to `width`×`height` (see [`Intrinsics::resized`]): each new
+    /// pixel gathers the light of the old ones it covers, as binning does (the colour image's
+    /// noise falls by the scale's inverse), and the noise's lengths in pixels shrink with it.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Invalid`] for a size of 0 or one more than twice the image's along either axis.
+    pub fn resized(&self, width: u32, height: u32) -> Result<SensorSpec, Error> {
+        let k = &self.intrinsics;
+        if width == 0 || height == 0 || width > 2 * k.width || height > 2 * k.height {
+            return Err(Error::Invalid {
+                key: "resolution".into(),
+                value: format!("[{width}, {height}]"),
+                allowed: format!(
+                    "a size of 1 to {}x{} on {}",
+                    2 * k.width,
+                    2 * k.height,
+                    self.name
+                ),
+            });
+        }
+        let (intrinsics, scale) = k.resized(width, height);
+        Ok(self.gathered((1.0 / scale) as f32, intrinsics))
+    }
+
+    /// This sensor with camera `intrinsics`, each of whose pixels gathers the light of
+    /// `factor`² of this one's: the charge of as many more (the colour image's noise falls by
+    /// `factor`), over [`SensorSpec::fewer_pixels`].
+    fn gathered(&self, factor: f32, intrinsics: Intrinsics) -> SensorSpec {
+        let mut spec = self.fewer_pixels(factor, intrinsics);
+        spec.noise.snr.electrons *= factor * factor;
+        spec.colour.noise /= factor;
         spec
     }
 
@@ -285,8 +317,8 @@ impl SensorSpec {
             });
         }
         let factor = sampling.factor();
-        let mut spec =
-            self.fewer_pixels(factor, self.intrinsics.sampled(factor, sampling.offset()));
+        let sampled = self.intrinsics.sampled(factor, sampling.offset());
+        let mut spec = self.fewer_pixels(factor as f32, sampled);
         spec.noise.snr.ambient /= 3.0;
         Ok(spec)
     }
@@ -294,14 +326,14 @@ impl SensorSpec {
     /// This sensor with camera `intrinsics`, `factor` times fewer pixels along each axis: its
     /// noise correlates, and its blur spreads, over as many fewer pixels, and its pixels are
     /// `factor` times wider.
-    fn fewer_pixels(&self, factor: u32, intrinsics: Intrinsics) -> SensorSpec {
+    fn fewer_pixels(&self, factor: f32, intrinsics: Intrinsics) -> SensorSpec {
         let mut spec = self.clone();
         spec.intrinsics = intrinsics;
         let length = &mut spec.noise.correlated.length_px;
-        *length = (*length / factor as f32).max(1.0);
-        spec.noise.wings.psf_px /= factor as f32;
+        *length = (*length / factor).max(1.0);
+        spec.noise.wings.psf_px /= factor;
         // a binned or subsampled pixel spans `factor` of the imager's along each axis
-        spec.colour.pixel_um *= factor as f32;
+        spec.colour.pixel_um *= factor;
         spec
     }
 

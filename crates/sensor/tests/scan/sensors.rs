@@ -62,6 +62,27 @@ fn colour_camera_presets_have_their_published_optics() {
 }
 
 #[test]
+fn a_resized_image_keeps_the_cameras_rays_and_gathers_its_pixels_light() {
+    let camera = SensorSpec::preset("industrial-5mp").unwrap();
+    let resized = camera.resized(1280, 1024).unwrap();
+    let (k, r) = (&camera.intrinsics, &resized.intrinsics);
+    assert_eq!((r.width, r.height), (1280, 1024));
+    // the width fits (2448 -> 1280); of the 1071 rows, 23.5 are cut off at the top and bottom
+    let scale = 1280.0 / 2448.0;
+    let cut = (2048.0 * scale - 1024.0) / 2.0;
+    for (u, v) in [(-0.5, -0.5), (0.0, 0.0), (639.5, 511.5), (1279.5, 1023.5), (100.0, 900.0)] {
+        let (ou, ov) = ((u + 0.5) / scale - 0.5, (v + 0.5 + cut) / scale - 0.5);
+        let (a, b) = (r.ray(u, v), k.ray(ou, ov));
+        assert!((a - b).length() < 1e-6, "({u}, {v}): {a} vs {b}");
+    }
+    // each new pixel the light of 1/scale² old ones: the colour noise falls by that side
+    let expected = camera.colour.noise * scale as f32;
+    assert!((resized.colour.noise - expected).abs() < 1e-7);
+    assert!((resized.colour.pixel_um - 3.45 / scale as f32).abs() < 1e-5);
+    assert!(camera.resized(0, 10).is_err() && camera.resized(6000, 10).is_err());
+}
+
+#[test]
 fn impossible_intrinsics_are_refused() {
     let good = small_camera(100, 100, 100.0);
     for (bad, key) in [
