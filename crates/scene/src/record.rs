@@ -7,6 +7,7 @@ use std::collections::BTreeMap;
 use glam::Vec3;
 use motorgen::{PartKind, Scheme};
 use sensor::wear::{Grain, Mask, Wear};
+use sensor::render::Lighting;
 use sensor::{Frame, Material, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
@@ -51,6 +52,9 @@ pub struct SampleJson {
     pub jitter: [f32; 3],
     /// The sensor as used.
     pub sensor: SensorSpec,
+    /// The lights of its rendered colour images, if rendered.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lighting: Option<Lighting>,
     /// Frame of the written points.
     pub frame: Frame,
     /// Units of the written points.

@@ -10,7 +10,7 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use sensor::render::{Lighting, Settings, render};
-use sensor::{Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
+use sensor::{ColourCapture, Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Place, Split, place};
 use crate::cell::{
@@ -234,6 +234,8 @@ pub struct Sample {
     /// Per view, the share of its motor points whose surface each view measured
     /// (`output.overlap`; see [`overlap`]).
     pub overlap: Option<Vec<Vec<f32>>>,
+    /// The lights of its rendered colour images (`render.enabled`).
+    pub lighting: Option<Lighting>,
 }
 
 /// The crop box around `centre`, each face drawn from its span.
@@ -318,6 +320,14 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let noise_scale = lc.noise_scale.sample(&mut Seed::NoiseScale.rng(seed));
     let mut sensor = recipe.sensor.clone();
     sensor.noise = sensor.noise.scaled(noise_scale);
+    // a rendered colour image replaces the scan's own: the scan shades none
+    let scanned = if config.render.enabled {
+        let mut s = sensor.clone();
+        s.colour.capture = ColourCapture::ThreeD;
+        Cow::Owned(s)
+    } else {
+        Cow::Borrowed(&sensor)
+    };
 
     let cells: Vec<&Cell> = std::iter::once(&cell).chain(&reclamped).collect();
     let worlds: Vec<World> = cells
@@ -352,7 +362,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             // cropping loses nothing
             let region = (!whole).then(|| region_around(&crop, &pose, &sensor));
             let earlier = EARLIER.take();
-            let mut s = scan_reusing(world, &sensor, &pose, noise_seed, region.as_ref(), earlier);
+            let mut s = scan_reusing(world, &scanned, &pose, noise_seed, region.as_ref(), earlier);
             if let Some(lighting) = &lighting {
                 let mut draws = Seed::Render(v as u64).rng(seed);
                 render_colour(&mut s, world, &sensor, lighting, &config.render, &mut draws)?;
@@ -406,6 +416,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         noise_scale,
         views,
         overlap,
+        lighting,
     })
 }
 
@@ -615,6 +626,7 @@ impl Sample {
             noise_scale: self.noise_scale,
             jitter: self.level.config(&recipe.config.augment).jitter,
             sensor: self.sensor.clone(),
+            lighting: self.lighting.clone(),
             frame: out.frame,
             units: out.units,
             scheme: out.scheme,

@@ -14,6 +14,8 @@ use sensor::wear::ArmatureSurface;
 fn recipe(name: &str, keys: &[(&str, toml::Value)]) -> Recipe {
     let mut table = builtin_table(name).unwrap();
     scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
+    let size = toml::Value::Array(vec![612.into(), 512.into()]);
+    scene::set_key(&mut table, "sensor.resolution", size).unwrap();
     scene::set_key(&mut table, "render.enabled", false.into()).unwrap();
     for (key, value) in keys {
         scene::set_key(&mut table, key, value.clone()).unwrap();
