@@ -25,12 +25,21 @@ fn main() {
     };
     let index: u64 = index.parse().expect("a sample index");
     let table = scene::config::builtin_table(name).expect("a built-in configuration");
-    let recipe = Recipe::new(Config::from_table(&table).expect("a configuration"), Vec::new())
-        .expect("a recipe");
+    let recipe = Recipe::new(
+        Config::from_table(&table).expect("a configuration"),
+        Vec::new(),
+    )
+    .expect("a recipe");
     let t = Instant::now();
     let sample = make(&recipe, index).expect("the sample");
-    println!("sample {index} of {name}: {:.3} s in full", t.elapsed().as_secs_f64());
-    let lighting = sample.lighting.clone().expect("a configuration that renders");
+    println!(
+        "sample {index} of {name}: {:.3} s in full",
+        t.elapsed().as_secs_f64()
+    );
+    let lighting = sample
+        .lighting
+        .clone()
+        .expect("a configuration that renders");
     let scheme = recipe.config.output.scheme;
     let world = World::new(&sample.cell.targets(scheme));
     let mut k = sample.sensor.intrinsics;
@@ -45,7 +54,10 @@ fn main() {
         };
         let t = Instant::now();
         let image = render(&world, &k, &pose, &lighting, &settings).expect("a frame");
-        println!("{samples} paths, {bounces} bounces: {:.3} s", t.elapsed().as_secs_f64());
+        println!(
+            "{samples} paths, {bounces} bounces: {:.3} s",
+            t.elapsed().as_secs_f64()
+        );
         image
     };
     let converged = frame(256, 3);
@@ -65,7 +77,9 @@ fn main() {
         let f = std::fs::File::create(format!("{out}/{file}")).expect("a file");
         let mut e = png::Encoder::new(f, k.width, k.height);
         e.set_color(png::ColorType::Rgb);
-        e.write_header().and_then(|mut w| w.write_image_data(&bytes)).expect("a PNG");
+        e.write_header()
+            .and_then(|mut w| w.write_image_data(&bytes))
+            .expect("a PNG");
     }
     let objects: Vec<serde_json::Value> = sample
         .cell

@@ -6,8 +6,8 @@ use std::collections::BTreeMap;
 
 use glam::Vec3;
 use motorgen::{PartKind, Scheme};
-use sensor::wear::{Grain, Mask, Wear};
 use sensor::render::Lighting;
+use sensor::wear::{Grain, Mask, Wear};
 use sensor::{Frame, Material, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 

@@ -204,7 +204,9 @@ impl Intrinsics {
         let (w, h) = (f64::from(self.width), f64::from(self.height));
         let scale = (f64::from(width) / w).max(f64::from(height) / h);
         // pixel centres: the old edge at -0.5 stays at -0.5 before the cut
-        let at = |c: f64, old: f64, new: u32| (c + 0.5) * scale - 0.5 - (old * scale - f64::from(new)) / 2.0;
+        let at = |c: f64, old: f64, new: u32| {
+            (c + 0.5) * scale - 0.5 - (old * scale - f64::from(new)) / 2.0
+        };
         let k = Intrinsics {
             width,
             height,

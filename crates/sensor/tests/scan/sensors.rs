@@ -70,7 +70,13 @@ fn a_resized_image_keeps_the_cameras_rays_and_gathers_its_pixels_light() {
     // the width fits (2448 -> 1280); of the 1071 rows, 23.5 are cut off at the top and bottom
     let scale = 1280.0 / 2448.0;
     let cut = (2048.0 * scale - 1024.0) / 2.0;
-    for (u, v) in [(-0.5, -0.5), (0.0, 0.0), (639.5, 511.5), (1279.5, 1023.5), (100.0, 900.0)] {
+    for (u, v) in [
+        (-0.5, -0.5),
+        (0.0, 0.0),
+        (639.5, 511.5),
+        (1279.5, 1023.5),
+        (100.0, 900.0),
+    ] {
         let (ou, ov) = ((u + 0.5) / scale - 0.5, (v + 0.5 + cut) / scale - 0.5);
         let (a, b) = (r.ray(u, v), k.ray(ou, ov));
         assert!((a - b).length() < 1e-6, "({u}, {v}): {a} vs {b}");
