@@ -2,6 +2,8 @@
 //! (covers, bolts, gears, armatures, gear containers, pole pots) lying flat on a table, some on
 //! what lies below them, some against the one before.
 
+use std::f32::consts::TAU;
+
 use glam::{Affine3A, Vec3};
 use motorgen::kernel::cuboid;
 use motorgen::{Motor, Part, PartKind};
@@ -47,7 +49,7 @@ pub fn handling(
     for k in 0..whole {
         let motor = motor_k(first, more, k)?;
         // clear of the motors before it (a few tries)
-        let yaw = rng.random_range(0.0..6.3);
+        let yaw = rng.random_range(0.0..TAU);
         let size = transform_box(&motor.attributes.bounds, &lying(&motor, yaw, Vec3::ZERO)).size();
         let mut at = spot(rng);
         for _ in 0..8 {
@@ -73,7 +75,7 @@ pub fn handling(
         let motor = donor.as_ref().expect("a donor for every part");
         let candidates: Vec<&Part> = motor.parts.iter().filter(|p| takes_off(p.kind)).collect();
         let p = candidates[rng.random_range(0..candidates.len())];
-        let turn = flat(p, rng.random_range(0.0..6.3), rng);
+        let turn = flat(p, rng.random_range(0.0..TAU), rng);
         let size = transform_box(&p.mesh.bounds(), &turn).size();
         let previous = scene.list.last().map(|o| o.mesh.bounds());
         let mut at = spot(rng);

@@ -3,6 +3,8 @@
 //! boxes, VDA KLT 4147: 400 × 300 × 147 mm) or flat workpiece trays, holding motors lying on
 //! their side, some with their cover off beside them; boxes and cylinders around.
 
+use std::f32::consts::TAU;
+
 use glam::{Affine3A, Vec3};
 use motorgen::kernel::{Mesh, cuboid};
 use motorgen::{Motor, PartKind};
@@ -151,7 +153,7 @@ pub fn transfer_unit(
                 let cover = motor.parts.iter().find(|p| p.kind == PartKind::Cover);
                 if let Some(cover) = cover {
                     let spot = at.transform_point3(Vec3::new(0.13, side, floor));
-                    let turn = flat(cover, yaw + rng.random_range(0.0..6.3), rng);
+                    let turn = flat(cover, yaw + rng.random_range(0.0..TAU), rng);
                     let to_world = set_down(&cover.mesh.bounds(), turn, spot);
                     let prefix = format!("motor_{k}_");
                     scene.part(
@@ -241,7 +243,7 @@ fn distractors(scene: &mut Objects, t: &TransferConfig, length: f32, rng: &mut i
                 rng.random_range(0.03..0.2),
                 rng.random_range(0.03..0.3),
             );
-            block(half, at, rng.random_range(0.0..6.3))
+            block(half, at, rng.random_range(0.0..TAU))
         } else {
             let radius = rng.random_range(0.03..0.12);
             let height = rng.random_range(0.05..0.6);
