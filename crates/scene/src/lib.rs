@@ -44,6 +44,7 @@ mod error;
 mod fixture;
 pub mod preview;
 pub mod record;
+mod rendered;
 pub mod rig;
 pub mod sample;
 pub mod silhouette;

@@ -9,7 +9,7 @@ use motorgen::{Motor, ParamSpace, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
-use sensor::render::{Lighting, Settings, render};
+use sensor::render::Lighting;
 use sensor::{ColourCapture, Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
 
 use crate::augment::{Level, Place, Split, place};
@@ -18,12 +18,12 @@ use crate::cell::{
 };
 use crate::coco::{self, CocoMasks, CocoView};
 use crate::config::{
-    Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, RenderConfig, SceneKind,
-    Variant,
+    Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, SceneKind, Variant,
 };
 use crate::coverage::{Surface, overlap};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
+use crate::rendered;
 use crate::rig::camera_poses;
 use crate::silhouette::Silhouette;
 
@@ -106,7 +106,7 @@ impl Recipe {
     /// # Errors
     ///
     /// The errors of [`Config::check`](crate::Config::check), and
-    /// [`Error::Config`] for a sensor that does not resolve.
+    /// [`Error::Config`](crate::Error::Config) for a sensor that does not resolve.
     pub fn new(config: Config, sweep: Vec<(String, toml::Value)>) -> Result<Recipe> {
         config.check()?;
         let spaces = config.param_spaces()?;
@@ -135,7 +135,7 @@ impl Recipe {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`] when the motor's parameters drawn for this sample
+    /// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample
     /// do not form a valid motor.
     pub fn motor(&self, index: u64) -> Result<(u64, Motor)> {
         let seed = derive_seed(self.config.seed, index);
@@ -152,7 +152,7 @@ impl Recipe {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`] when the motor's parameters drawn do not form a valid motor.
+    /// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn do not form a valid motor.
     pub fn extra_motor(&self, index: u64, k: usize) -> Result<Motor> {
         let seed = derive_seed(self.config.seed, index);
         let slot = (self.place(index).slot as usize + k) % self.spaces.len();
@@ -275,7 +275,7 @@ fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
 ///
 /// # Errors
 ///
-/// [`Error::Config`] when the motor's parameters drawn for this sample do not
+/// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample do not
 /// form a valid motor.
 pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let config = &recipe.config;
@@ -365,7 +365,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             let mut s = scan_reusing(world, &scanned, &pose, noise_seed, region.as_ref(), earlier);
             if let Some(lighting) = &lighting {
                 let mut draws = Seed::Render(v as u64).rng(seed);
-                render_colour(&mut s, world, &sensor, lighting, &config.render, &mut draws)?;
+                rendered::colour(&mut s, world, &sensor, lighting, &config.render, &mut draws)?;
             }
             let mut jitter = Seed::Jitter(v as u64).rng(seed);
             let cloud = cropped(&s, &crop, out.clean, lc.jitter, &mut jitter);
@@ -418,51 +418,6 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         overlap,
         lighting,
     })
-}
-
-/// The mean luminance an automatic exposure brings a frame to.
-const MID_GREY: f32 = 0.18;
-
-/// Replaces `scan`'s colour image by one path-traced of `world` under `lighting` (the scan's
-/// intrinsics and pose, the lens of the sensor's colour camera), exposed and moved as `config`
-/// draws from `rng`, developed by the sensor's colour camera.
-fn render_colour(
-    scan: &mut Scan,
-    world: &World,
-    sensor: &SensorSpec,
-    lighting: &Lighting,
-    config: &RenderConfig,
-    rng: &mut impl Rng,
-) -> Result<()> {
-    let k = &sensor.intrinsics;
-    let travel = config.motion.sample(rng);
-    let angle = rng.random_range(0.0..std::f32::consts::TAU);
-    let mut exposure = config.exposure.sample(rng).exp2();
-    let settings = Settings {
-        samples: config.samples,
-        bounces: config.bounces,
-        seed: rng.random(),
-        aperture: sensor.colour.aperture_radius(k),
-        focus: sensor.colour.focus,
-        motion: [travel * angle.cos(), travel * angle.sin(), 0.0],
-    };
-    let mut frame = render(world, k, &scan.pose, lighting, &settings)
-        .map_err(|e| Error::Config(e.to_string()))?;
-    if config.auto_exposure {
-        let luminance = |p: &[f32; 3]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-        let mean = frame.pixels.iter().map(luminance).sum::<f32>() / frame.pixels.len() as f32;
-        if mean > 0.0 {
-            exposure *= MID_GREY / mean;
-        }
-    }
-    for p in &mut frame.pixels {
-        *p = p.map(|c| c * exposure);
-    }
-    let rgb = sensor.colour.develop(k, &frame, rng.random());
-    for (p, c) in scan.pixels.iter_mut().zip(rgb) {
-        p.rgb = c;
-    }
-    Ok(())
 }
 
 /// The region of pixels a scan from `pose` needs to measure the points in `b` (world) as a
