@@ -52,6 +52,12 @@ fn a_rendered_colour_image_is_exposed_to_mid_grey_and_the_same_for_the_same_seed
     let brighter = rgb(&rendered(&[("render.exposure", 1.0.into())]), 3);
     let ratio = mean_luminance(&brighter) / mean;
     assert!((1.6..2.05).contains(&ratio), "{ratio}");
+    // the lights drawn, recorded in the sample's JSON
+    let recipe = Recipe::new(Config::from_table(&table).unwrap(), Vec::new()).unwrap();
+    let sample = make(&recipe, 3).unwrap();
+    let doc = scene::sample_json(&recipe, &sample);
+    let lights = doc.lighting.as_ref().map_or(0, |l| l.lights.len());
+    assert!((1..=2).contains(&lights), "{lights} lights");
     // lit by lights, not by the scan's flash: the two images differ
     let mut flash = table.clone();
     scene::set_key(&mut flash, "render.enabled", false.into()).unwrap();
