@@ -63,9 +63,7 @@ fn main() {
     let converged = frame(256, 3);
     let r = &recipe.config.render;
     let ours = frame(r.samples, r.bounces);
-    let luminance = |p: &[f32; 3]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-    let mean = converged.pixels.iter().map(luminance).sum::<f32>() / converged.pixels.len() as f32;
-    let exposure = 0.18 / mean;
+    let exposure = 0.18 / converged.mean_luminance();
     std::fs::create_dir_all(out).expect("the output folder");
     for (file, image) in [("ours.png", &ours), ("ours-converged.png", &converged)] {
         let bytes: Vec<u8> = image

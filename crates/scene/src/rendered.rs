@@ -37,8 +37,7 @@ pub(crate) fn colour(
     let mut frame = render(world, k, &scan.pose, lighting, &settings)
         .map_err(|e| Error::Config(e.to_string()))?;
     if config.auto_exposure {
-        let luminance = |p: &[f32; 3]| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-        let mean = frame.pixels.iter().map(luminance).sum::<f32>() / frame.pixels.len() as f32;
+        let mean = frame.mean_luminance();
         if mean > 0.0 {
             exposure *= MID_GREY / mean;
         }

@@ -10,7 +10,7 @@ use sensor::materials::{LAMINATE, STAINLESS_STEEL};
 use sensor::wear::{ArmatureSurface, Grain, Mask, Rust, Wear};
 
 use super::place::Objects;
-use super::{Cell, Kind, Object, armature, table_material};
+use super::{Cell, Kind, Object, armature};
 use crate::config::CellConfig;
 
 /// The surfaces in the order of their labels, with their objects' names.
@@ -94,15 +94,18 @@ pub fn bench(motor: &Motor, config: &CellConfig, rng: &mut impl Rng) -> Cell {
             ..wear
         };
         let name = SURFACES.iter().find(|s| s.0 == surface).map_or("", |s| s.1);
-        let kind = Kind::Surface(surface);
-        scene.add(name.into(), mesh, whole.material, kind);
-        let o = scene.list.last_mut().expect("just added");
-        o.part = Some(PartKind::Armature);
-        o.wear = Some(wear);
+        scene.push(Object {
+            name: name.into(),
+            part: Some(PartKind::Armature),
+            kind: Kind::Surface(surface),
+            instance: 0,
+            mesh,
+            material: whole.material,
+            wear: Some(wear),
+        });
     }
-    scene.list[0].material = table_material(&config.table, rng);
     let look_at = to_world.transform_point3(centre);
-    scene.cell(look_at, to_world)
+    scene.cell(look_at, to_world, &config.table, rng)
 }
 
 /// The armature's triangles by the surface their centres lie on, each a mesh of its own (its

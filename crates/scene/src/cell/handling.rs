@@ -11,7 +11,7 @@ use rand::{Rng, RngExt};
 use sensor::materials::LAMINATE;
 
 use super::place::{Objects, flat, inside, lying, motor_k, set_down};
-use super::{Cell, Kind, table_material, transform_box};
+use super::{Cell, Kind, transform_box};
 use crate::config::CellConfig;
 use crate::error::Result;
 
@@ -51,13 +51,8 @@ pub fn handling(
         // clear of the motors before it (a few tries)
         let yaw = rng.random_range(0.0..TAU);
         let size = transform_box(&motor.attributes.bounds, &lying(&motor, yaw, Vec3::ZERO)).size();
-        let mut at = spot(rng);
-        for _ in 0..8 {
-            if scene.top(at, size) == 0.0 {
-                break;
-            }
-            at = spot(rng);
-        }
+        let at = spot(rng);
+        let at = scene.clear(at, size, || spot(rng));
         let to_world = lying(&motor, yaw, at);
         if k == 0 {
             first_pose = to_world;
@@ -87,15 +82,10 @@ pub fn handling(
         }
         // on what lies below (the top of the boxes under its footprint), or on the table
         // where nothing does (a few tries)
-        let stacked = rng.random::<f32>() < h.stack;
-        let mut below = scene.top(at, size);
-        for _ in 0..8 {
-            if stacked || below == 0.0 {
-                break;
-            }
-            at = spot(rng);
-            below = scene.top(at, size);
+        if rng.random::<f32>() >= h.stack {
+            at = scene.clear(at, size, || spot(rng));
         }
+        let below = scene.top(at, size);
         let to_world = set_down(&p.mesh.bounds(), turn, at.with_z(below + 0.0005));
         let prefix = format!("part_{}_", i + 1);
         scene.part(
@@ -107,7 +97,6 @@ pub fn handling(
             rng,
         );
     }
-    scene.list[0].material = table_material(&config.table, rng);
     let centre = Vec3::new(0.0, 0.0, 0.03);
-    Ok(scene.cell(centre, first_pose))
+    Ok(scene.cell(centre, first_pose, &config.table, rng))
 }

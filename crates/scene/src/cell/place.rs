@@ -10,8 +10,8 @@ use rand::{Rng, RngExt};
 use sensor::Material;
 
 use super::station::orientation;
-use super::{Cell, Kind, Object, armature, draw_wear, transform_box};
-use crate::config::{Clamping, WearConfig};
+use super::{Cell, Kind, Object, armature, draw_wear, table_material, transform_box};
+use crate::config::{Clamping, TableConfig, WearConfig};
 use crate::error::Result;
 
 /// A scene's objects in the order they are added, instance ids from 1 in that order (a whole
@@ -29,14 +29,19 @@ impl Objects {
         self.next
     }
 
+    /// Adds `o`, its instance the next id.
+    pub(super) fn push(&mut self, o: Object) {
+        let instance = self.id();
+        self.list.push(Object { instance, ..o });
+    }
+
     /// Adds an object that is no motor part.
     pub(super) fn add(&mut self, name: String, mesh: Mesh, material: Material, kind: Kind) {
-        let instance = self.id();
-        self.list.push(Object {
+        self.push(Object {
             name,
             part: None,
             kind,
-            instance,
+            instance: 0,
             mesh,
             material,
             wear: None,
@@ -69,8 +74,7 @@ impl Objects {
             }
         };
         o.name = format!("{prefix}{}", o.name);
-        o.instance = self.id();
-        self.list.push(o);
+        self.push(o);
     }
 
     /// Adds `motor`'s parts but those `hidden` says, assembled (motor frame to world
@@ -103,8 +107,28 @@ impl Objects {
             .fold(0.0f32, |top, b| top.max(b.max.z))
     }
 
-    /// The scene as a cell looked at about `centre`, its first motor's pose `motor_to_world`.
-    pub(super) fn cell(self, centre: Vec3, motor_to_world: Affine3A) -> Cell {
+    /// `at`, or where `spot` draws next, up to eight times, until a footprint of `size` there
+    /// meets nothing ([`Objects::top`]); the last drawn when none does.
+    pub(super) fn clear(&self, mut at: Vec3, size: Vec3, mut spot: impl FnMut() -> Vec3) -> Vec3 {
+        for _ in 0..8 {
+            if self.top(at, size) == 0.0 {
+                break;
+            }
+            at = spot();
+        }
+        at
+    }
+
+    /// The scene as a cell looked at about `centre`, its first motor's pose `motor_to_world`,
+    /// the ground (its first object) in a look `table` draws from `rng`, the scene's last draw.
+    pub(super) fn cell(
+        mut self,
+        centre: Vec3,
+        motor_to_world: Affine3A,
+        table: &TableConfig,
+        rng: &mut impl Rng,
+    ) -> Cell {
+        self.list[0].material = table_material(table, rng);
         Cell {
             objects: self.list,
             motor_to_world,

@@ -13,7 +13,7 @@ use sensor::Material;
 use sensor::materials::{BLACK_PA66, MATTE_GREY, ZINC_PLATED_STEEL};
 
 use super::place::{Objects, block, flat, inside, lying, motor_k, paint, set_down};
-use super::{Cell, Kind, cylinder, table_material};
+use super::{Cell, Kind, cylinder};
 use crate::config::{CellConfig, TransferConfig};
 use crate::error::Result;
 
@@ -169,14 +169,10 @@ pub fn transfer_unit(
         }
     }
     distractors(&mut scene, t, length, rng);
-    let floor = scene
-        .list
-        .iter_mut()
-        .find(|o| o.name == "floor")
-        .expect("the conveyor stands on a floor");
-    floor.material = table_material(&config.table, rng);
+    // the floor, the scene's first object, in the table's look
     let centre = Vec3::new(0.0, 0.0, CARRIER.z / 2.0);
-    Ok(scene.cell(centre, first_pose.unwrap_or(Affine3A::IDENTITY)))
+    let pose = first_pose.unwrap_or(Affine3A::IDENTITY);
+    Ok(scene.cell(centre, pose, &config.table, rng))
 }
 
 /// The floor, and a roller conveyor `length` long along x: rollers, two side profiles, four

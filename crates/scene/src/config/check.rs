@@ -55,13 +55,7 @@ impl Config {
             }
         }
         let o = &c.occluders;
-        if o.count[0] > o.count[1] || o.count[1] > 20 {
-            return Err(Error::invalid(
-                "cell.occluders.count",
-                format!("{:?}", o.count),
-                "[min, max] with min <= max <= 20",
-            ));
-        }
+        super::scenes::check_count("cell.occluders.count", o.count, 20)?;
         o.size.check("cell.occluders.size", 1e-3, 0.5)?;
         o.height.check("cell.occluders.height", -0.1, 0.5)?;
         if !(0.0..=0.5).contains(&o.spread) {

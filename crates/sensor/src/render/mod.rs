@@ -108,6 +108,12 @@ impl Image {
     pub fn to_srgb8(&self) -> Vec<u8> {
         self.pixels.iter().flatten().map(|&v| srgb8(v)).collect()
     }
+
+    /// The mean luminance of its pixels (Rec. 709 weights): what an automatic exposure meters.
+    pub fn mean_luminance(&self) -> f32 {
+        let sum: f32 = self.pixels.iter().map(|&p| bsdf::luminance(p.into())).sum();
+        sum / self.pixels.len().max(1) as f32
+    }
 }
 
 /// A linear value as 8-bit sRGB (IEC 61966-2-1), rounded.
