@@ -426,6 +426,7 @@ mod tests {
                 positions,
                 triangles,
             },
+            pose: Affine3A::IDENTITY,
             material: materials::MATTE_GREY,
             wear: None,
         }

@@ -34,6 +34,7 @@
 //! ```
 
 pub mod augment;
+pub mod bop;
 pub mod cell;
 mod claim;
 pub mod coco;

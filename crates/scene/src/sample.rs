@@ -25,7 +25,7 @@ use crate::error::Result;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
 use crate::rendered;
 use crate::rig::camera_poses;
-use crate::silhouette::Silhouette;
+use crate::silhouette::{Silhouette, instance_targets};
 
 thread_local! {
     /// This thread's last region scan, whose buffer its next reuses: a megapixel buffer mapped
@@ -509,8 +509,8 @@ impl Sample {
         let file_name = files.iter().find(|f| f.ends_with(rgb))?.clone();
         let targets = self.cell_of(view).targets(output.scheme);
         let silhouette = |instance: u32| {
-            let target = targets.iter().find(|t| t.instance == instance)?;
-            Some(Silhouette::of(target, scan, &self.sensor))
+            let pieces = instance_targets(&targets, instance);
+            (!pieces.is_empty()).then(|| Silhouette::of(&pieces, scan, &self.sensor))
         };
         let image = coco::Image {
             id: self.index * MAX_VIEWS + k as u64 + 1,

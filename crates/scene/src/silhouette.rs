@@ -4,6 +4,16 @@
 use glam::Vec3;
 use sensor::{Scan, SensorSpec, Target, World};
 
+/// The pieces of `targets` that are instance `instance` (an assembled motor's parts, under
+/// schemes of whole objects), cloned.
+pub fn instance_targets(targets: &[Target], instance: u32) -> Vec<Target> {
+    targets
+        .iter()
+        .filter(|t| t.instance == instance)
+        .cloned()
+        .collect()
+}
+
 /// The pixels of a window of an image where an object lies.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Silhouette {
@@ -16,13 +26,14 @@ pub struct Silhouette {
 }
 
 impl Silhouette {
-    /// The silhouette of `target` in `scan` (taken by `sensor`): the pixels of the scan's window
-    /// within the target's projected bounds whose centre ray meets it.
-    pub fn of(target: &Target, scan: &Scan, sensor: &SensorSpec) -> Silhouette {
+    /// The silhouette of `targets` (one object, in one or several pieces) in `scan` (taken by
+    /// `sensor`): the pixels of the scan's window within their projected bounds whose centre
+    /// ray meets one of them.
+    pub fn of(targets: &[Target], scan: &Scan, sensor: &SensorSpec) -> Silhouette {
         let k = &sensor.intrinsics;
         let w = &scan.window;
         let from_world = scan.pose.inverse();
-        let (lo, hi) = target.positions.iter().fold(
+        let (lo, hi) = targets.iter().flat_map(|t| &t.positions).fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(lo, hi), p| (lo.min(*p), hi.max(*p)),
         );
@@ -59,7 +70,7 @@ impl Silhouette {
             }
             None => (w.cols.clone(), w.rows.clone()),
         };
-        let world = World::new(std::slice::from_ref(target));
+        let world = World::new(targets);
         let origin = scan.pose.translation.into();
         let inside = rows
             .clone()
@@ -86,5 +97,16 @@ impl Silhouette {
     /// Pixels in the silhouette.
     pub fn area(&self) -> usize {
         self.inside.iter().filter(|&&b| b).count()
+    }
+
+    /// The tight box of its pixels, [x, y, width, height]; None when it has none.
+    pub fn bbox(&self) -> Option<[usize; 4]> {
+        let mask = crate::coco::Mask {
+            width: self.size[0],
+            height: self.size[1],
+            inside: &self.inside,
+        };
+        let [x, y, w, h] = mask.bbox()?;
+        Some([x + self.origin[0], y + self.origin[1], w, h])
     }
 }

@@ -607,13 +607,13 @@ fn a_parts_silhouette_alone_is_its_pixels_in_the_scan() {
             .collect()
     };
     let alone = sensor::scan(&World::new(std::slice::from_ref(&housing)), &spec, &pose, 1);
-    let s = Silhouette::of(&housing, &alone, &spec);
+    let s = Silhouette::of(std::slice::from_ref(&housing), &alone, &spec);
     assert!(s.area() > 1000, "{}", s.area());
     assert!(within(&s) == pixels(&alone, 1));
     // with the cover on, the housing shows less than its silhouette
     let both = sensor::scan(&World::new(&[housing.clone(), cover]), &spec, &pose, 1);
     let seen = pixels(&both, 1);
-    let s = Silhouette::of(&housing, &both, &spec);
+    let s = Silhouette::of(std::slice::from_ref(&housing), &both, &spec);
     let outline = within(&s);
     assert!(
         seen.len() < outline.len(),

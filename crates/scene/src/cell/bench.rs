@@ -100,6 +100,7 @@ pub fn bench(motor: &Motor, config: &CellConfig, rng: &mut impl Rng) -> Cell {
             kind: Kind::Surface(surface),
             instance: 0,
             mesh,
+            pose: to_world,
             material: whole.material,
             wear: Some(wear),
         });

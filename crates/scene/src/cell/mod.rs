@@ -65,6 +65,9 @@ pub struct Object {
     pub instance: u32,
     /// Closed mesh in world coordinates, m.
     pub mesh: Mesh,
+    /// Its model's frame to world: a motor part's the motor's frame, a carrier's the frame it
+    /// was built in (the mesh is the model moved by it); the world's for background.
+    pub pose: Affine3A,
     /// What the sensor's noise models read.
     pub material: Material,
     /// Rust on it, if any.
@@ -101,6 +104,7 @@ impl Object {
             kind,
             instance: p.instance,
             mesh: p.mesh.clone().transformed(to_world),
+            pose: *to_world,
             material: material(p.kind),
             wear: None,
         }

@@ -35,14 +35,27 @@ impl Objects {
         self.list.push(Object { instance, ..o });
     }
 
-    /// Adds an object that is no motor part.
+    /// Adds an object that is no motor part, its mesh in world coordinates.
     pub(super) fn add(&mut self, name: String, mesh: Mesh, material: Material, kind: Kind) {
+        self.add_at(name, mesh, &Affine3A::IDENTITY, material, kind);
+    }
+
+    /// Adds an object that is no motor part: `model` moved by `pose`.
+    pub(super) fn add_at(
+        &mut self,
+        name: String,
+        model: Mesh,
+        pose: &Affine3A,
+        material: Material,
+        kind: Kind,
+    ) {
         self.push(Object {
             name,
             part: None,
             kind,
             instance: 0,
-            mesh,
+            mesh: model.transformed(pose),
+            pose: *pose,
             material,
             wear: None,
         });

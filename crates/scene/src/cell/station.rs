@@ -136,6 +136,7 @@ pub fn compose(motor: &Motor, config: &CellConfig, vary: Variation, rng: &mut im
             kind: Kind::Background,
             instance: next,
             mesh,
+            pose: Affine3A::IDENTITY,
             material,
             wear: None,
         });

@@ -117,7 +117,7 @@ pub fn transfer_unit(
         };
         let at = Affine3A::from_translation(Vec3::new(x, y, 0.0)) * Affine3A::from_rotation_z(yaw);
         let name = format!("carrier_{}", c + 1);
-        scene.add(name, mesh.transformed(&at), material, Kind::Carrier);
+        scene.add_at(name, mesh, &at, material, Kind::Carrier);
         // the first carrier holds a motor whenever carriers may
         let count = rng.random_range(t.motors[0]..=t.motors[1]) as usize;
         let count = if c == 0 {

@@ -180,6 +180,13 @@ impl Config {
                 "\"off\" unless output.images = true (YOLO labels the colour images)",
             ));
         }
+        if self.output.bop && !self.output.images {
+            return Err(Error::invalid(
+                "output.bop",
+                "true",
+                "false unless output.images = true (BOP annotates the colour images)",
+            ));
+        }
         if !(1..=100).contains(&self.output.jpeg_quality) {
             return Err(Error::invalid(
                 "output.jpeg_quality",

@@ -39,6 +39,9 @@ pub struct OutputConfig {
     /// Ultralytics YOLO labels of the colour images (with `images`): `off`, `detect` or
     /// `segment`.
     pub yolo: Yolo,
+    /// BOP scenes of the colour images (with `images`): each object's pose, masks and model in
+    /// `bop/`.
+    pub bop: bool,
     /// What the points' rgb holds.
     pub colour: Colouring,
     /// Also record, for every pair of views, the share of each view's motor points whose

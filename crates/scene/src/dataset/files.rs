@@ -1,11 +1,14 @@
 //! A sample's files: where each goes in the folder's layout (`train/` and `validation/`, or a
 //! folder per kind with the split in the name), and writing them with its manifest row.
 
+use std::path::{Path, PathBuf};
+
 use sensor::formats::CloudFormat;
 
-use super::folder::save;
+use super::folder::{files_in, save};
 use super::{Dataset, Row};
 use crate::augment::Split;
+use crate::bop;
 use crate::claim::plain_dir;
 use crate::config::{ImageFormat, Layout};
 use crate::error::Result;
@@ -21,11 +24,17 @@ impl Dataset {
         let stem = sample.stem();
         let files = view_files(recipe, sample);
         let json_rel = placed(out.layout, sample.split, "json", &format!("{stem}.json"));
+        let bop = if out.bop {
+            bop::scene_files(sample, out)
+        } else {
+            Vec::new()
+        };
         // every folder above every file, parents first
         let mut folders: Vec<&str> = files
             .iter()
             .flatten()
             .map(|(rel, _)| rel.as_str())
+            .chain(bop.iter().map(|(rel, _)| rel.as_str()))
             .chain([json_rel.as_str()])
             .flat_map(|rel| rel.match_indices('/').map(|(i, _)| &rel[..i]))
             .collect();
@@ -74,6 +83,9 @@ impl Dataset {
                 }
             }
         }
+        for (rel, body) in &bop {
+            save(&self.out.join(rel), body)?;
+        }
         let names: Vec<Vec<String>> = files
             .iter()
             .map(|files| files.iter().map(|(rel, _)| rel.clone()).collect())
@@ -89,7 +101,11 @@ impl Dataset {
             variant: sample.variant.map_or("motor".into(), |v| format!("{v:?}")),
             points: sample.views.iter().map(|v| v.cloud.len()).collect(),
             json: json_rel,
-            files: names.concat(),
+            files: [
+                names.concat(),
+                bop.into_iter().map(|(rel, _)| rel).collect(),
+            ]
+            .concat(),
             class_counts,
         })
     }
@@ -124,9 +140,9 @@ impl ViewFile {
 }
 
 /// Every folder a run writes files to besides the dataset folder, each before its parent: those
-/// a sample's files may go to, in either layout, the YOLO folder's, and the gathered
-/// annotations'.
-pub(crate) const SAMPLE_FOLDERS: [&str; 17] = [
+/// a sample's files may go to, in either layout, the YOLO folder's, the gathered annotations',
+/// and the BOP folder's above its scenes.
+pub(crate) const SAMPLE_FOLDERS: [&str; 20] = [
     "train",
     "validation",
     "ply",
@@ -144,7 +160,34 @@ pub(crate) const SAMPLE_FOLDERS: [&str; 17] = [
     "yolo/images",
     "yolo/labels",
     "yolo",
+    "bop/train_pbr",
+    "bop/val_pbr",
+    "bop",
 ];
+
+/// The folders of the BOP scenes under `out` ([`SAMPLE_FOLDERS`] holds those above them):
+/// each scene's (named by its sample's index) and its subfolders, those that exist.
+pub(super) fn bop_folders(out: &Path) -> Result<Vec<PathBuf>> {
+    let mut dirs = Vec::new();
+    for split in [Split::Train, Split::Validation] {
+        let parent = out.join(bop::FOLDER).join(bop::split_folder(split));
+        for (scene, name) in files_in(&parent)? {
+            let named = name.len() == 6 && name.bytes().all(|b| b.is_ascii_digit());
+            if !named || !std::fs::symlink_metadata(&scene).is_ok_and(|m| m.is_dir()) {
+                continue;
+            }
+            for sub in bop::SCENE_FOLDERS {
+                let dir = scene.join(sub);
+                if std::fs::symlink_metadata(&dir).is_ok() {
+                    plain_dir(&dir)?;
+                    dirs.push(dir);
+                }
+            }
+            dirs.push(scene);
+        }
+    }
+    Ok(dirs)
+}
 
 /// Where a file of a sample of `split` named `name` goes, relative to the dataset folder:
 /// `train/` or `validation/`, or in the flat layout the folder of its kind (`folder`) with the

@@ -358,6 +358,7 @@ impl Dataset {
                 dirs.push(dir);
             }
         }
+        dirs.extend(files::bop_folders(out)?);
         claim.remove_stale_temporaries(&dirs)?;
         drop(setup);
         Ok((rows, first))
@@ -474,10 +475,10 @@ impl Dataset {
                     .filter(|r| r.index < self.samples)
                     .collect();
                 write_rows(&self.out.join("manifest.jsonl"), &all)?;
-                self.gather_coco(&all)?;
+                self.gather(&all)?;
             }
         } else if !stopped {
-            self.gather_coco(&rows)?;
+            self.gather(&rows)?;
         }
         let mut summary = Summary {
             made: rows.len() as u64 - skipped,
@@ -503,15 +504,17 @@ impl Dataset {
 }
 
 impl Dataset {
-    /// With `output.coco`: the COCO instances files of the whole dataset (`rows`), from the
-    /// annotations each sample's JSON keeps.
-    fn gather_coco(&self, rows: &[Row]) -> Result<()> {
+    /// What the whole dataset (`rows`) shares, from its samples' JSON: with `output.coco` the
+    /// COCO instances files, from the annotations each keeps; with `output.bop` BOP's
+    /// `camera.json`, the first sample's camera.
+    fn gather(&self, rows: &[Row]) -> Result<()> {
         let output = &self.base.config.output;
-        if output.coco == crate::coco::CocoMasks::Off {
-            return Ok(());
-        }
+        let coco = output.coco != crate::coco::CocoMasks::Off;
         let mut views = Vec::new();
-        for row in rows {
+        for (k, row) in rows.iter().enumerate() {
+            if !coco && (k > 0 || !output.bop) {
+                break;
+            }
             let rel = Path::new(&row.json);
             let path = self.out.join(rel);
             let plain = rel
@@ -528,12 +531,21 @@ impl Dataset {
                 .map_err(Error::io(&path))?;
             let doc: SampleJson = serde_json::from_slice(&bytes)
                 .map_err(|e| Error::Config(format!("{}: {e}", path.display())))?;
+            if k == 0 && output.bop {
+                let camera = crate::bop::camera(&doc.sensor);
+                let folder = self.out.join(crate::bop::FOLDER);
+                plain_dir(&folder)?;
+                save(&folder.join("camera.json"), &|w| write_json(w, &camera))?;
+            }
             views.extend(
                 doc.views
                     .into_iter()
                     .filter_map(|v| v.coco)
                     .map(|c| (row.split.clone(), c)),
             );
+        }
+        if !coco {
+            return Ok(());
         }
         crate::coco::gather(&self.out, output.scheme, &views)
     }

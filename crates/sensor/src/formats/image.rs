@@ -14,7 +14,17 @@ fn png(
     depth: png::BitDepth,
     data: &[u8],
 ) -> Result<()> {
-    let mut e = png::Encoder::new(w, scan.width, scan.height);
+    png_sized(w, (scan.width, scan.height), color, depth, data)
+}
+
+fn png_sized(
+    w: &mut dyn Write,
+    (width, height): (u32, u32),
+    color: png::ColorType,
+    depth: png::BitDepth,
+    data: &[u8],
+) -> Result<()> {
+    let mut e = png::Encoder::new(w, width, height);
     // fdeflate: several times faster than the default level, files a little larger
     e.set_compression(png::Compression::Fast);
     e.set_color(color);
@@ -51,6 +61,29 @@ pub fn write_depth_png(w: &mut dyn Write, scan: &Scan, clean: bool) -> Result<()
         }
     });
     grey16(w, scan, depth)
+}
+
+/// An 8-bit grey mask of `width` × `height`: 255 where `inside(x, y)`, else 0.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_mask_png(
+    w: &mut dyn Write,
+    (width, height): (u32, u32),
+    inside: &dyn Fn(usize, usize) -> bool,
+) -> Result<()> {
+    let data: Vec<u8> = (0..height as usize)
+        .flat_map(|y| (0..width as usize).map(move |x| (x, y)))
+        .map(|(x, y)| if inside(x, y) { 255 } else { 0 })
+        .collect();
+    png_sized(
+        w,
+        (width, height),
+        png::ColorType::Grayscale,
+        png::BitDepth::Eight,
+        &data,
+    )
 }
 
 /// 8-bit RGB normals, (n + 1) / 2 · 255 in the camera frame; black where nothing was hit.
