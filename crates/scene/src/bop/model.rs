@@ -112,7 +112,7 @@ pub fn write_ply(w: &mut dyn Write, model: &Model) -> Result<()> {
 const DIAMETER_DIRECTIONS: usize = 512;
 
 /// The model's diameter, mm: the largest distance between two of its vertices, searched among
-/// the vertices extreme along [`DIAMETER_DIRECTIONS`] directions of a Fibonacci sphere (the
+/// the vertices extreme along 512 directions of a Fibonacci sphere (the
 /// diameter's two ends are extreme along it; along a direction θ from it, two vertices at
 /// least cos θ of it apart are: short by under 0.3 % for these, about 9° apart).
 pub fn diameter(mesh: &Mesh) -> f32 {
