@@ -306,3 +306,46 @@ fn scans_reusing_a_buffer_equal_fresh_ones() {
         }
     }
 }
+
+#[test]
+fn undistortion_inverts_the_lens_over_the_whole_image() {
+    let lenses = [
+        Distortion {
+            k1: -0.10,
+            k2: 0.15,
+            p1: 1e-4,
+            p2: -1e-4,
+            k3: 0.0,
+        },
+        Distortion {
+            k1: -0.30,
+            k2: 0.10,
+            p1: 2e-3,
+            p2: -1e-3,
+            k3: -0.02,
+        },
+        Distortion {
+            k1: 0.20,
+            k2: 0.05,
+            p1: -1e-3,
+            p2: 1e-3,
+            k3: 0.01,
+        },
+    ];
+    for d in lenses {
+        let mut worst = 0.0f64;
+        for i in 0..=40 {
+            for j in 0..=40 {
+                // a 5 MP imager's field behind a 12 mm lens: |x| ≤ 0.35, |y| ≤ 0.3
+                let (xd, yd) = (
+                    -0.35 + 0.7 * f64::from(i) / 40.0,
+                    -0.3 + 0.6 * f64::from(j) / 40.0,
+                );
+                let (x, y) = d.undistort(xd, yd);
+                let (rx, ry) = d.distort(x, y);
+                worst = worst.max((rx - xd).abs().max((ry - yd).abs()));
+            }
+        }
+        assert!(worst < 1e-12, "{d}: {worst}");
+    }
+}
