@@ -2,10 +2,12 @@
 //! memory and a pure function of (configuration, sample index).
 
 use std::borrow::Cow;
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::OnceLock;
 
 use glam::{Affine3A, Mat4, Vec3};
 use motorgen::kernel::Aabb;
-use motorgen::{Motor, ParamSpace, build, derive_seed};
+use motorgen::{Motor, ParamSpace, Scheme, build, derive_seed};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -200,6 +202,8 @@ pub struct View {
     pub scene_cloud: Option<PointCloud>,
     /// The organized scan, when images are asked for.
     pub scan: Option<Scan>,
+    /// The silhouettes of the annotated instances, once asked for ([`Sample::silhouettes`]).
+    silhouettes: OnceLock<BTreeMap<u32, Silhouette>>,
 }
 
 /// A finished sample in memory.
@@ -391,6 +395,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
                 cloud: cloud.transformed(&to_frame, out.units),
                 scene_cloud,
                 scan,
+                silhouettes: OnceLock::new(),
             };
             Ok((view, exact))
         })
@@ -497,6 +502,29 @@ impl Sample {
         format!("{:06}_{variant}_{}", self.index, self.level.name())
     }
 
+    /// The silhouettes in view `k` (which kept its scan) of the instances with a class under
+    /// `scheme` (the sample's own), by instance id: made on the first call.
+    pub fn silhouettes(&self, k: usize, scheme: Scheme) -> &BTreeMap<u32, Silhouette> {
+        let view = &self.views[k];
+        view.silhouettes.get_or_init(|| {
+            let Some(scan) = view.scan.as_ref() else {
+                return BTreeMap::new();
+            };
+            let cell = self.cell_of(view);
+            let targets = cell.targets(scheme);
+            let ids: BTreeSet<u32> = (cell.objects.iter())
+                .filter(|o| o.class(scheme) != 0)
+                .map(|o| o.instance_in(scheme))
+                .collect();
+            ids.into_par_iter()
+                .map(|id| {
+                    let pieces = instance_targets(&targets, id);
+                    (id, Silhouette::of(&pieces, scan, &self.sensor))
+                })
+                .collect()
+        })
+    }
+
     /// View `k`'s COCO image (its colour image among `files`) and annotations, when `output`
     /// asks for them and the view kept its scan.
     fn coco(&self, k: usize, files: &[String], output: &OutputConfig) -> Option<CocoView> {
@@ -507,11 +535,8 @@ impl Sample {
         let scan = view.scan.as_ref()?;
         let rgb = output.image_format.rgb_name();
         let file_name = files.iter().find(|f| f.ends_with(rgb))?.clone();
-        let targets = self.cell_of(view).targets(output.scheme);
-        let silhouette = |instance: u32| {
-            let pieces = instance_targets(&targets, instance);
-            (!pieces.is_empty()).then(|| Silhouette::of(&pieces, scan, &self.sensor))
-        };
+        let silhouettes = self.silhouettes(k, output.scheme);
+        let silhouette = |instance: u32| silhouettes.get(&instance);
         let image = coco::Image {
             id: self.index * MAX_VIEWS + k as u64 + 1,
             file_name,

@@ -22,7 +22,7 @@ use serde_json::{Map, Value, json};
 use crate::augment::Split;
 use crate::config::{ImageFormat, OutputConfig};
 use crate::sample::Sample;
-use crate::silhouette::{Silhouette, instance_targets};
+use crate::silhouette::Silhouette;
 use model::{MM, Model};
 
 /// The BOP folder, relative to the dataset folder.
@@ -50,11 +50,11 @@ const _: () = {
 pub type Writer<'a> = Box<dyn Fn(&mut dyn Write) -> Result<()> + Sync + 'a>;
 
 /// What a view shows of a model.
-struct Seen {
+struct Seen<'a> {
     /// Model frame to camera, metres.
     to_camera: Affine3A,
     /// Its pixels whatever lies in front.
-    silhouette: Silhouette,
+    silhouette: &'a Silhouette,
     /// Its silhouette's pixels with a depth.
     valid: usize,
     /// Its visible pixels and their box.
@@ -63,11 +63,16 @@ struct Seen {
 }
 
 /// What view `k` of `sample` shows of each of `models` (posed in the view's own cell).
-fn seen(sample: &Sample, k: usize, models: &[Model], output: &OutputConfig) -> Vec<Seen> {
+fn seen<'a>(
+    sample: &'a Sample,
+    k: usize,
+    models: &[Model],
+    output: &OutputConfig,
+) -> Vec<Seen<'a>> {
     let view = &sample.views[k];
     let scan = view.scan.as_ref().expect("a BOP view keeps its scan");
     let cell = sample.cell_of(view);
-    let targets = cell.targets(output.scheme);
+    let silhouettes = sample.silhouettes(k, output.scheme);
     // a view of the cell reclamped sees the same models posed otherwise
     let posed =
         (!std::ptr::eq(cell, &sample.cell)).then(|| model::models(&cell.objects, output.scheme));
@@ -80,11 +85,7 @@ fn seen(sample: &Sample, k: usize, models: &[Model], output: &OutputConfig) -> V
             let to_world = (posed.iter().flatten())
                 .find(|p| p.instance == m.instance)
                 .map_or(m.to_world, |p| p.to_world);
-            let silhouette = Silhouette::of(
-                &instance_targets(&targets, m.instance),
-                scan,
-                &sample.sensor,
-            );
+            let silhouette = &silhouettes[&m.instance];
             let ([x0, y0], [w, _]) = (silhouette.origin, silhouette.size);
             let valid = (silhouette.inside.iter().enumerate())
                 .filter(|&(i, &b)| b && scan.pixels[(y0 + i / w) * width + x0 + i % w].is_valid())

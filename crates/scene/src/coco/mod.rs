@@ -109,11 +109,11 @@ pub struct CocoView {
 /// The annotations of `scan`'s image `image` (classes and instances of the surface under each
 /// pixel's centre; class 0, the background, left out), masks written as `masks` says, each
 /// part's visible fraction from its silhouette where `silhouette` gives one.
-pub fn annotate(
+pub fn annotate<'s>(
     scan: &Scan,
     image: Image,
     masks: CocoMasks,
-    silhouette: &dyn Fn(u32) -> Option<Silhouette>,
+    silhouette: &dyn Fn(u32) -> Option<&'s Silhouette>,
 ) -> CocoView {
     let (w, h) = (scan.width as usize, scan.height as usize);
     // each instance's class and box
