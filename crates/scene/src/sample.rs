@@ -2,7 +2,7 @@
 //! memory and a pure function of (configuration, sample index).
 
 use std::borrow::Cow;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::sync::OnceLock;
 
 use glam::{Affine3A, Mat4, Vec3};
@@ -12,7 +12,9 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use sensor::render::Lighting;
-use sensor::{ColourCapture, Pixel, PointCloud, Region, Scan, SensorSpec, World, scan_reusing};
+use sensor::{
+    ColourCapture, Pixel, PointCloud, Region, Scan, SensorSpec, Target, World, scan_reusing,
+};
 
 use crate::augment::{Level, Place, Split, place};
 use crate::cell::{
@@ -27,7 +29,7 @@ use crate::error::Result;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
 use crate::rendered;
 use crate::rig::camera_poses;
-use crate::silhouette::{Silhouette, instance_targets};
+use crate::silhouette::Silhouette;
 
 thread_local! {
     /// This thread's last region scan, whose buffer its next reuses: a megapixel buffer mapped
@@ -511,16 +513,19 @@ impl Sample {
                 return BTreeMap::new();
             };
             let cell = self.cell_of(view);
-            let targets = cell.targets(scheme);
-            let ids: BTreeSet<u32> = (cell.objects.iter())
+            // each annotated instance's pieces (an assembled motor's parts under objects9)
+            let mut pieces: BTreeMap<u32, Vec<Target>> = (cell.objects.iter())
                 .filter(|o| o.class(scheme) != 0)
-                .map(|o| o.instance_in(scheme))
+                .map(|o| (o.instance_in(scheme), Vec::new()))
                 .collect();
-            ids.into_par_iter()
-                .map(|id| {
-                    let pieces = instance_targets(&targets, id);
-                    (id, Silhouette::of(&pieces, scan, &self.sensor))
-                })
+            for t in cell.targets(scheme) {
+                if let Some(p) = pieces.get_mut(&t.instance) {
+                    p.push(t);
+                }
+            }
+            pieces
+                .into_par_iter()
+                .map(|(id, pieces)| (id, Silhouette::of(&pieces, scan, &self.sensor)))
                 .collect()
         })
     }

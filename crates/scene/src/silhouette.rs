@@ -4,16 +4,6 @@
 use glam::Vec3;
 use sensor::{Scan, SensorSpec, Target, World};
 
-/// The pieces of `targets` that are instance `instance` (an assembled motor's parts, under
-/// schemes of whole objects), cloned.
-pub fn instance_targets(targets: &[Target], instance: u32) -> Vec<Target> {
-    targets
-        .iter()
-        .filter(|t| t.instance == instance)
-        .cloned()
-        .collect()
-}
-
 /// The pixels of a window of an image where an object lies.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Silhouette {

@@ -44,12 +44,13 @@ fn a_models_pose_moves_it_onto_its_objects_and_its_id_is_their_class() {
                     .flat_map(|o| o.mesh.positions.clone())
                     .collect();
                 assert_eq!(m.mesh.positions.len(), world.len());
+                let to_world = m.to_world(objects, scheme);
                 let worst = (m.mesh.positions.iter().zip(&world))
-                    .map(|(p, w)| m.to_world.transform_point3(*p / model::MM).distance(*w))
+                    .map(|(p, w)| to_world.transform_point3(*p / model::MM).distance(*w))
                     .fold(0.0f32, f32::max);
                 assert!(worst < 2e-6, "{name} {index} {}: {worst} m", m.instance);
                 // rigid, and the model about its box's centre
-                let r = glam::Mat3::from(m.to_world.matrix3);
+                let r = glam::Mat3::from(to_world.matrix3);
                 assert!((r * r.transpose()).abs_diff_eq(glam::Mat3::IDENTITY, 1e-5));
                 assert!(m.mesh.bounds().centre().length() < 1e-3);
             }

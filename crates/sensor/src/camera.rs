@@ -41,10 +41,30 @@ impl Distortion {
         [self.k1, self.k2, self.k3, self.p1, self.p2] == [0.0; 5]
     }
 
+    /// The radial factor at squared radius `r2` and its derivative by `r2`.
+    #[inline]
+    fn radial(&self, r2: f64) -> (f64, f64) {
+        let Distortion { k1, k2, k3, .. } = *self;
+        (
+            1.0 + r2 * (k1 + r2 * (k2 + r2 * k3)),
+            k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3),
+        )
+    }
+
+    /// Whether the distorted radius grows with the radius out to squared radius `r2` (the
+    /// image does not fold over itself there).
+    fn monotonic_to(&self, r2: f64) -> bool {
+        (0..=100).all(|k| {
+            let r2 = r2 * f64::from(k) / 100.0;
+            let (radial, slope) = self.radial(r2);
+            radial + 2.0 * r2 * slope > 0.0
+        })
+    }
+
     /// Distorts ideal normalised coordinates (x, y) = (X/Z, Y/Z).
     pub fn distort(&self, x: f64, y: f64) -> (f64, f64) {
         let r2 = x * x + y * y;
-        let radial = 1.0 + r2 * (self.k1 + r2 * (self.k2 + r2 * self.k3));
+        let (radial, _) = self.radial(r2);
         let dx = 2.0 * self.p1 * x * y + self.p2 * (r2 + 2.0 * x * x);
         let dy = self.p1 * (r2 + 2.0 * y * y) + 2.0 * self.p2 * x * y;
         (x * radial + dx, y * radial + dy)
@@ -57,13 +77,10 @@ impl Distortion {
         if self.is_none() {
             return (xd, yd);
         }
-        let Distortion { k1, k2, k3, p1, p2 } = *self;
+        let (p1, p2) = (self.p1, self.p2);
         let (mut x, mut y) = (xd, yd);
         for _ in 0..20 {
-            let r2 = x * x + y * y;
-            let radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-            // d(radial)/d(r²)
-            let slope = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);
+            let (radial, slope) = self.radial(x * x + y * y);
             let (fx, fy) = self.distort(x, y);
             let (ex, ey) = (fx - xd, fy - yd);
             let j11 = radial + 2.0 * x * x * slope + 2.0 * p1 * y + 6.0 * p2 * x;
@@ -174,15 +191,8 @@ impl Intrinsics {
             let (x, y) = d.undistort((u - self.cx) / self.fx, (v - self.cy) / self.fy);
             let (xd, yd) = d.distort(x, y);
             let err = ((xd * self.fx + self.cx - u).abs()).max((yd * self.fy + self.cy - v).abs());
-            // and never fold the image over itself: the distorted radius grows with the radius
-            // out to the corner
-            let corner = x * x + y * y;
-            let folds = (0..=100).any(|k| {
-                let r2 = corner * f64::from(k) / 100.0;
-                let radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
-                let slope = d.k1 + r2 * (2.0 * d.k2 + 3.0 * r2 * d.k3);
-                radial + 2.0 * r2 * slope <= 0.0
-            });
+            // and never fold the image over itself out to the corner
+            let folds = !d.monotonic_to(x * x + y * y);
             if err.is_nan() || err >= 1e-3 || folds {
                 return bad(
                     "distortion",

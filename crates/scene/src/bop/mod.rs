@@ -73,18 +73,13 @@ fn seen<'a>(
     let scan = view.scan.as_ref().expect("a BOP view keeps its scan");
     let cell = sample.cell_of(view);
     let silhouettes = sample.silhouettes(k, output.scheme);
-    // a view of the cell reclamped sees the same models posed otherwise
-    let posed =
-        (!std::ptr::eq(cell, &sample.cell)).then(|| model::models(&cell.objects, output.scheme));
     let from_world = view.pose.inverse();
     let visible = visible_pixels(scan);
     let width = scan.width as usize;
     models
         .iter()
         .map(|m| {
-            let to_world = (posed.iter().flatten())
-                .find(|p| p.instance == m.instance)
-                .map_or(m.to_world, |p| p.to_world);
+            let to_world = m.to_world(&cell.objects, output.scheme);
             let silhouette = &silhouettes[&m.instance];
             let ([x0, y0], [w, _]) = (silhouette.origin, silhouette.size);
             let valid = (silhouette.inside.iter().enumerate())
@@ -256,10 +251,10 @@ fn json_writer<'a>(doc: Value) -> Writer<'a> {
     })
 }
 
-/// The dataset's `camera.json`: the camera of `sample`'s first view, BOP's camera for
+/// The dataset's `camera.json` (the first sample's `sensor`'s camera), BOP's camera for
 /// simulation (each image's own is in its scene's `scene_camera.json`).
-pub fn camera(sample_sensor: &sensor::SensorSpec) -> Value {
-    let k = &sample_sensor.intrinsics;
+pub fn camera(sensor: &sensor::SensorSpec) -> Value {
+    let k = &sensor.intrinsics;
     json!({
         "cx": k.cx,
         "cy": k.cy,

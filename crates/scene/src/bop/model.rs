@@ -19,10 +19,26 @@ pub struct Model {
     pub instance: u32,
     /// BOP's `obj_id`: its class under the scheme (1-based; the background has none).
     pub obj_id: u8,
-    /// Model frame to world, both in metres.
-    pub to_world: Affine3A,
+    /// The model's origin in its first piece's model frame ([`Object::pose`]), metres.
+    pub centre: Vec3,
     /// The model, mm, its box centred on the origin.
     pub mesh: Mesh,
+}
+
+impl Model {
+    /// Its model frame (in metres) to the world of `objects` (its cell, or the same pieces
+    /// placed otherwise: the cell reclamped) under `scheme`.
+    pub fn to_world(&self, objects: &[Object], scheme: Scheme) -> Affine3A {
+        let first = pieces(objects, scheme, self.instance)
+            .next()
+            .expect("a model's cell holds its pieces");
+        first.pose * Affine3A::from_translation(self.centre)
+    }
+}
+
+/// The pieces of annotated instance `instance` in `objects`, in order.
+fn pieces(objects: &[Object], scheme: Scheme, instance: u32) -> impl Iterator<Item = &Object> {
+    (objects.iter()).filter(move |o| o.class(scheme) != 0 && o.instance_in(scheme) == instance)
 }
 
 /// The annotated objects of `objects` under `scheme`, by instance id: each instance whose
@@ -39,9 +55,7 @@ pub fn models(objects: &[Object], scheme: Scheme) -> Vec<Model> {
     instances
         .into_iter()
         .map(|(instance, obj_id)| {
-            let mut pieces = objects
-                .iter()
-                .filter(|o| o.class(scheme) != 0 && o.instance_in(scheme) == instance);
+            let mut pieces = pieces(objects, scheme, instance);
             let first = pieces.next().expect("an instance has a piece");
             let from_world = first.pose.inverse();
             let mut mesh = first.mesh.clone().transformed(&from_world);
@@ -54,7 +68,7 @@ pub fn models(objects: &[Object], scheme: Scheme) -> Vec<Model> {
             Model {
                 instance,
                 obj_id,
-                to_world: first.pose * Affine3A::from_translation(centre),
+                centre,
                 mesh: mesh.transformed(&to_model),
             }
         })

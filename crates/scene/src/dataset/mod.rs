@@ -510,11 +510,14 @@ impl Dataset {
     fn gather(&self, rows: &[Row]) -> Result<()> {
         let output = &self.base.config.output;
         let coco = output.coco != crate::coco::CocoMasks::Off;
+        // every sample's JSON for COCO, the first's alone for BOP's camera
+        let read = if coco {
+            rows.len()
+        } else {
+            usize::from(output.bop).min(rows.len())
+        };
         let mut views = Vec::new();
-        for (k, row) in rows.iter().enumerate() {
-            if !coco && (k > 0 || !output.bop) {
-                break;
-            }
+        for (k, row) in rows[..read].iter().enumerate() {
             let rel = Path::new(&row.json);
             let path = self.out.join(rel);
             let plain = rel
