@@ -33,6 +33,7 @@ pub(crate) fn colour(
         aperture: sensor.colour.aperture_radius(k),
         focus: sensor.colour.focus,
         motion: [travel * angle.cos(), travel * angle.sin(), 0.0],
+        denoise: config.denoise,
     };
     let mut frame = render(world, k, &scan.pose, lighting, &settings)
         .map_err(|e| Error::Config(e.to_string()))?;

@@ -22,6 +22,9 @@ pub struct RenderConfig {
     pub samples: u32,
     /// Surface interactions after the first that a path may have.
     pub bounces: u32,
+    /// Filter the paths' noise with an edge-aware denoiser guided by each pixel's first
+    /// surface (`sensor::render::Settings::denoise`).
+    pub denoise: bool,
     /// The camera's automatic exposure: the frame's mean luminance brought to 0.18 (a mid
     /// grey) before `exposure`, as a camera's auto-exposure meters a scene.
     pub auto_exposure: bool,

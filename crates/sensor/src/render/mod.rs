@@ -10,6 +10,7 @@
 //! [`Material`]: crate::Material
 
 pub(crate) mod bsdf;
+mod denoise;
 mod light;
 
 use glam::{Affine3A, Vec3};
@@ -21,6 +22,7 @@ use crate::camera::Intrinsics;
 use crate::noise::PixelRng;
 use crate::world::World;
 use bsdf::Bsdf;
+use denoise::{Guide, denoise};
 use light::{Emitter, Incoming};
 pub use light::{Light, Lighting};
 
@@ -44,6 +46,9 @@ pub struct Settings {
     /// How far the camera moves during the exposure, in its own frame, m (motion blur); the
     /// pose is the exposure's middle.
     pub motion: [f32; 3],
+    /// Filter the frame's path-tracing noise with an edge-aware denoiser guided by each pixel's
+    /// first surface (its albedo, normal and point).
+    pub denoise: bool,
 }
 
 impl Default for Settings {
@@ -55,6 +60,7 @@ impl Default for Settings {
             aperture: 0.0,
             focus: 1.0,
             motion: [0.0; 3],
+            denoise: false,
         }
     }
 }
@@ -190,10 +196,14 @@ pub fn render(
     let (width, height) = (intrinsics.width as usize, intrinsics.height as usize);
     let motion = Vec3::from(settings.motion);
     let mut pixels = vec![[0.0f32; 3]; width * height];
+    // each row's guides for the denoiser (a placeholder per row without it)
+    let per_row = if settings.denoise { width } else { 1 };
+    let mut guides = vec![None; per_row * height];
     pixels
         .par_chunks_mut(width)
+        .zip(guides.par_chunks_mut(per_row))
         .enumerate()
-        .for_each(|(row, out)| {
+        .for_each(|(row, (out, guides))| {
             for (col, px) in out.iter_mut().enumerate() {
                 let index = (row * width + col) as u64;
                 let mut sum = Vec3::ZERO;
@@ -206,11 +216,18 @@ pub fn render(
                     let (origin, dir) = camera_ray(intrinsics.ray(u, v), settings, motion, rng);
                     let (origin, dir) =
                         (pose.transform_point3(origin), pose.transform_vector3(dir));
-                    sum += scene.path(origin, dir.normalize(), rng);
+                    let (radiance, guide) = scene.path(origin, dir.normalize(), rng);
+                    sum += radiance;
+                    if s == 0 && settings.denoise {
+                        guides[col] = guide;
+                    }
                 }
                 *px = (sum / settings.samples as f32).to_array();
             }
         });
+    if settings.denoise {
+        denoise(&mut pixels, &guides, width, (1.0 / intrinsics.fx) as f32);
+    }
     Ok(Image {
         width: intrinsics.width,
         height: intrinsics.height,
@@ -248,9 +265,11 @@ struct Scene<'a> {
 }
 
 impl Scene<'_> {
-    /// The radiance one path from `origin` along `dir` brings back.
-    fn path(&self, mut origin: Vec3, mut dir: Vec3, rng: PixelRng) -> Vec3 {
+    /// The radiance one path from `origin` along `dir` brings back, and what its first surface
+    /// shows the denoiser.
+    fn path(&self, mut origin: Vec3, mut dir: Vec3, rng: PixelRng) -> (Vec3, Option<Guide>) {
         let mut radiance = Vec3::ZERO;
+        let mut guide = None;
         let mut throughput = Vec3::ONE;
         // the pdf of the BSDF sample that chose `dir` (none for the camera's ray)
         let mut bsdf_pdf: Option<f32> = None;
@@ -285,6 +304,14 @@ impl Scene<'_> {
             let Some(bsdf) = Bsdf::new(&hit.material, hit.normal, wo) else {
                 break;
             };
+            if vertex == 0 {
+                guide = Some(Guide {
+                    albedo: bsdf.albedo(),
+                    normal: hit.normal,
+                    point: x,
+                    distance: hit.t,
+                });
+            }
             let lift = x + hit.normal * EPSILON;
             for (k, emitter) in self.emitters.iter().enumerate() {
                 let k = 3 + 2 * k as u64;
@@ -315,7 +342,7 @@ impl Scene<'_> {
             origin = lift;
             dir = sampled.wi;
         }
-        radiance
+        (radiance, guide)
     }
 }
 

@@ -94,6 +94,65 @@ fn a_white_sphere_vanishes_in_a_white_furnace() {
 }
 
 #[test]
+fn one_denoised_path_keeps_the_white_furnace_and_removes_its_noise() {
+    // the rough metal and the dielectric scatter each path differently (a Lambertian white
+    // returns exactly 1 along every path): one path per pixel is noisy, the denoised frame
+    // keeps the furnace's 1 with a fraction of that noise
+    let camera = Intrinsics::from_fov(96, 96, 30.0, 30.0);
+    let pose = look_at(Vec3::new(0.0, -2.0, 0.0), Vec3::ZERO, Vec3::Z).unwrap();
+    let lighting = Lighting {
+        lights: vec![],
+        environment: [1.0; 3],
+    };
+    for (name, metallic, roughness) in [("rough metal", 1.0, 0.6), ("dielectric", 0.0, 0.5)] {
+        let material = Material {
+            colour: [1.0; 3],
+            metallic,
+            roughness,
+            ..Material::default()
+        };
+        let sphere = shapes::sphere(Vec3::ZERO, 0.4, 48);
+        let world = World::new(&[Target::from_triangles(&sphere, 1, 1, material)]);
+        let frame = |denoise| {
+            let settings = Settings {
+                samples: 1,
+                denoise,
+                ..Settings::default()
+            };
+            render(&world, &camera, &pose, &lighting, &settings).unwrap()
+        };
+        let (raw, denoised) = (frame(false), frame(true));
+        // the sphere's pixels, away from its rim
+        let on_sphere: Vec<usize> = (0..camera.width * camera.height)
+            .map(|i| i as usize)
+            .filter(|&i| {
+                let (col, row) = (i % 96, i / 96);
+                let r = camera.ray(col as f64, row as f64);
+                let d = pose.transform_vector3(r);
+                let o = pose.transform_point3(Vec3::ZERO);
+                // distance of the ray from the centre below 0.35 (the radius is 0.4)
+                (o - d * o.dot(d)).length() < 0.35
+            })
+            .collect();
+        let stats = |image: &Image| {
+            let v: Vec<f32> = on_sphere.iter().map(|&i| image.pixels[i][1]).collect();
+            let mean = v.iter().sum::<f32>() / v.len() as f32;
+            let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f32>() / v.len() as f32;
+            (mean, var.sqrt())
+        };
+        let ((raw_mean, raw_std), (mean, std)) = (stats(&raw), stats(&denoised));
+        assert!(
+            (mean - 1.0).abs() < 0.04,
+            "{name}: mean {mean} (raw {raw_mean})"
+        );
+        assert!(
+            std < raw_std / 3.0,
+            "{name}: deviation {std} against {raw_std} raw"
+        );
+    }
+}
+
+#[test]
 fn a_lambertian_plane_under_a_point_light_is_albedo_over_pi_times_irradiance() {
     // L = ρ/π · I cos θ / r², I = P / 4π; straight below a light 1 m up, cos θ = 1, r = 1
     let (albedo, power, height) = (0.5, 40.0, 1.0);
