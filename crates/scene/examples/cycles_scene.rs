@@ -7,7 +7,7 @@
 //! `OUT_DIR/scene.json`: the camera (a pinhole: the sensor's intrinsics without distortion, no
 //! depth of field, no motion), the sample's lights, every object's triangles and material, and
 //! the exposure (the automatic exposure of the converged frame); `OUT_DIR/ours.png`: the
-//! frame at the configuration's samples, bounces and denoising; `OUT_DIR/ours-converged.png`:
+//! frame at the configuration's samples, bounces, denoising and bounce share; `OUT_DIR/ours-converged.png`:
 //! at 256 paths and 3 bounces; both 8-bit sRGB at that exposure, without the camera's noise. The seconds the
 //! sample takes in full (scan, render, annotations) and each frame are printed.
 
@@ -45,12 +45,13 @@ fn main() {
     let mut k = sample.sensor.intrinsics;
     k.distortion = Distortion::default();
     let pose = sample.views[0].pose;
-    let frame = |samples, bounces, denoise| {
+    let frame = |samples, bounces, denoise, bounce_share| {
         let settings = Settings {
             samples,
             bounces,
             seed: 1,
             denoise,
+            bounce_share,
             ..Settings::default()
         };
         let t = Instant::now();
@@ -61,9 +62,9 @@ fn main() {
         );
         image
     };
-    let converged = frame(256, 3, false);
+    let converged = frame(256, 3, false, 1.0);
     let r = &recipe.config.render;
-    let ours = frame(r.samples, r.bounces, r.denoise);
+    let ours = frame(r.samples, r.bounces, r.denoise, r.bounce_share);
     let exposure = 0.18 / converged.mean_luminance();
     std::fs::create_dir_all(out).expect("the output folder");
     for (file, image) in [("ours.png", &ours), ("ours-converged.png", &converged)] {

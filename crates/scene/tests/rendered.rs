@@ -102,6 +102,10 @@ fn renders_that_cannot_be_made_are_refused_by_key() {
         ),
         (vec![("render.samples", 0.into())], "render.samples"),
         (
+            vec![("render.bounce_share", 0.0.into())],
+            "render.bounce_share",
+        ),
+        (
             vec![(
                 "lighting.lights",
                 toml::Value::Array(vec![1.into(), 9.into()]),

@@ -25,6 +25,9 @@ pub struct RenderConfig {
     /// Filter the paths' noise with an edge-aware denoiser guided by each pixel's first
     /// surface (`sensor::render::Settings::denoise`).
     pub denoise: bool,
+    /// The share of paths that go on past their first surface
+    /// (`sensor::render::Settings::bounce_share`).
+    pub bounce_share: f32,
     /// The camera's automatic exposure: the frame's mean luminance brought to 0.18 (a mid
     /// grey) before `exposure`, as a camera's auto-exposure meters a scene.
     pub auto_exposure: bool,
@@ -63,6 +66,13 @@ impl RenderConfig {
         }
         if self.bounces > 16 {
             return Err(Error::invalid("render.bounces", self.bounces, "0 to 16"));
+        }
+        if !(0.001..=1.0).contains(&self.bounce_share) {
+            return Err(Error::invalid(
+                "render.bounce_share",
+                self.bounce_share,
+                "0.001 to 1",
+            ));
         }
         self.exposure.check("render.exposure", -16.0, 16.0)?;
         self.motion.check("render.motion", 0.0, 0.5)

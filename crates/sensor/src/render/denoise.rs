@@ -235,8 +235,8 @@ impl Surfaces {
                     );
                     let (vq, lq) = (at(&light.variance, q, len), at(&light.luminance, q, len));
                     let [acc_r, acc_g, acc_b, _, acc_v] =
-                        acc.each_mut().map(|a| &mut a[xs.clone()]);
-                    let acc_w = &mut total[xs.clone()];
+                        acc.each_mut().map(|a| &mut a[xs.start..][..len]);
+                    let acc_w = &mut total[xs.start..][..len];
                     if dy == 0 && dx == 0 {
                         for i in 0..len {
                             acc_r[i] += k * rq[i];
@@ -255,7 +255,7 @@ impl Surfaces {
                         at(&self.reach, p, len),
                         at(&light.luminance, p, len),
                     );
-                    let (valid, sigma) = (at(&self.valid, q, len), &inv_sigma[xs.clone()]);
+                    let (valid, sigma) = (at(&self.valid, q, len), at(&inv_sigma, xs.start, len));
                     for i in 0..len {
                         let cos = nxp[i] * nxq[i] + nyp[i] * nyq[i] + nzp[i] * nzq[i];
                         let dist = nxp[i] * xq[i] + nyp[i] * yq[i] + nzp[i] * zq[i] - offset[i];

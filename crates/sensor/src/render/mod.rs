@@ -49,6 +49,11 @@ pub struct Settings {
     /// Filter the frame's path-tracing noise with an edge-aware denoiser guided by each pixel's
     /// first surface (its albedo, normal and point).
     pub denoise: bool,
+    /// The share of paths that go on past their first surface, drawn per path (0.001 to 1): the
+    /// others end with the light that surface receives straight from the lights, and the
+    /// light those that go on bring back counts 1 / share times (unbiased: fewer rays, more
+    /// noise for the denoiser to take).
+    pub bounce_share: f32,
 }
 
 impl Default for Settings {
@@ -61,6 +66,7 @@ impl Default for Settings {
             focus: 1.0,
             motion: [0.0; 3],
             denoise: false,
+            bounce_share: 1.0,
         }
     }
 }
@@ -90,6 +96,12 @@ impl Settings {
         crate::spec::within([
             ("render.aperture", self.aperture, 0.0..=1.0, "0 to 1 m"),
             ("render.focus", self.focus, 0.01..=1000.0, "0.01 to 1000 m"),
+            (
+                "render.bounce_share",
+                self.bounce_share,
+                0.001..=1.0,
+                "0.001 to 1",
+            ),
             ("render.motion", mx, -1.0..=1.0, "-1 to 1 m per axis"),
             ("render.motion", my, -1.0..=1.0, "-1 to 1 m per axis"),
             ("render.motion", mz, -1.0..=1.0, "-1 to 1 m per axis"),
@@ -139,7 +151,8 @@ const DRAWS_PER_VERTEX: u64 = 16;
 pub const MAX_LIGHTS: usize = 6;
 /// Offset of a ray leaving a surface along its normal, metres.
 const EPSILON: f32 = 2e-5;
-/// The draws of a camera ray's lens point and time, beyond those of any path's vertices.
+/// The draws of a camera ray's lens point and time, and of whether its path goes on past the
+/// first surface, beyond those of any path's vertices.
 const CAMERA_DRAWS: u64 = 1 << 20;
 
 /// Renders what a camera of `intrinsics` at camera-to-world `pose` (x right, y down, z
@@ -333,6 +346,12 @@ impl Scene<'_> {
                 } else {
                     throughput * f * value * (power_heuristic(pdf, pdf_bsdf) / pdf)
                 };
+            }
+            if vertex == 0 && self.settings.bounce_share < 1.0 {
+                if rng.uniform(CAMERA_DRAWS + 3) >= self.settings.bounce_share {
+                    break;
+                }
+                throughput /= self.settings.bounce_share;
             }
             let Some(sampled) = bsdf.sample([u(0), u(1), u(2)]) else {
                 break;

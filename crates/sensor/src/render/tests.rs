@@ -153,6 +153,42 @@ fn one_denoised_path_keeps_the_white_furnace_and_removes_its_noise() {
 }
 
 #[test]
+fn paths_that_go_on_past_the_first_surface_by_a_share_keep_the_mean() {
+    // a grey plane under the surroundings and a point light: the light straight from the lamp
+    // at every pixel, the surroundings' only through paths that go on; a quarter of them,
+    // counted four times, bring back the same mean with more noise
+    let world = plane(lambert(0.5));
+    let lighting = Lighting {
+        lights: vec![Light::Point {
+            position: [0.0, 0.0, 1.0],
+            power: 20.0,
+            colour: [1.0; 3],
+        }],
+        environment: [0.5; 3],
+    };
+    let camera = Intrinsics::from_fov(48, 48, 40.0, 40.0);
+    let frame = |bounce_share| {
+        let settings = Settings {
+            samples: 64,
+            bounce_share,
+            ..Settings::default()
+        };
+        let image = render(&world, &camera, &above(2.0), &lighting, &settings).unwrap();
+        centre_mean(&image, &camera, 2.0, 0.5).x
+    };
+    let (all, quarter) = (frame(1.0), frame(0.25));
+    assert!(
+        (quarter / all - 1.0).abs() < 0.01,
+        "{quarter} against {all}"
+    );
+    let invalid = Settings {
+        bounce_share: 0.0,
+        ..Settings::default()
+    };
+    assert!(render(&world, &camera, &above(2.0), &lighting, &invalid).is_err());
+}
+
+#[test]
 fn a_lambertian_plane_under_a_point_light_is_albedo_over_pi_times_irradiance() {
     // L = ρ/π · I cos θ / r², I = P / 4π; straight below a light 1 m up, cos θ = 1, r = 1
     let (albedo, power, height) = (0.5, 40.0, 1.0);
