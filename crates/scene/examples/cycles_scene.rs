@@ -7,9 +7,10 @@
 //! `OUT_DIR/scene.json`: the camera (a pinhole: the sensor's intrinsics without distortion, no
 //! depth of field, no motion), the sample's lights, every object's triangles and material, and
 //! the exposure (the automatic exposure of the converged frame); `OUT_DIR/ours.png`: the
-//! frame at the configuration's samples, bounces, denoising and bounce share; `OUT_DIR/ours-converged.png`:
-//! at 256 paths and 3 bounces; both 8-bit sRGB at that exposure, without the camera's noise. The seconds the
-//! sample takes in full (scan, render, annotations) and each frame are printed.
+//! frame at the configuration's samples, bounces, denoising and bounce share;
+//! `OUT_DIR/ours-converged.png`: at 256 paths and 3 bounces; both 8-bit sRGB at that exposure,
+//! without the camera's noise. The seconds the sample takes in full (scan, render, annotations)
+//! and each frame are printed.
 
 use std::time::Instant;
 

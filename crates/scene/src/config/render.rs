@@ -67,7 +67,7 @@ impl RenderConfig {
         if self.bounces > 16 {
             return Err(Error::invalid("render.bounces", self.bounces, "0 to 16"));
         }
-        if !(0.001..=1.0).contains(&self.bounce_share) {
+        if !sensor::render::BOUNCE_SHARE.contains(&self.bounce_share) {
             return Err(Error::invalid(
                 "render.bounce_share",
                 self.bounce_share,

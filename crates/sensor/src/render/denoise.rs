@@ -87,6 +87,11 @@ pub(super) fn denoise(
         let [nx, ny, nz] = &mut surfaces.normal;
         let [px, py, pz] = &mut surfaces.point;
         let [r, g, b] = &mut light.rgb;
+        let (offset, reach, valid) = (
+            &mut surfaces.offset,
+            &mut surfaces.reach,
+            &mut surfaces.valid,
+        );
         let columns = [
             nx,
             ny,
@@ -94,12 +99,15 @@ pub(super) fn denoise(
             px,
             py,
             pz,
-            &mut surfaces.offset,
-            &mut surfaces.reach,
-        ];
-        let more = [&mut surfaces.valid, r, g, b, &mut light.luminance];
-        let columns = columns.into_iter().chain(more).map(|c| &mut c[..]);
-        let columns: [&mut [f32]; 13] = columns.collect::<Vec<_>>().try_into().expect("13");
+            offset,
+            reach,
+            valid,
+            r,
+            g,
+            b,
+            &mut light.luminance,
+        ]
+        .map(|c| &mut c[..]);
         rows(columns, width)
             .into_par_iter()
             .enumerate()
@@ -316,7 +324,7 @@ fn pow128(c: f32) -> f32 {
     (0..7).fold(c, |c, _| c * c)
 }
 
-/// e^-x for x ≥ 0, to about 2e-6 relative: 2^(-x·log2 e) split into a whole power of two,
+/// e^-x for x ≥ 0, within 2e-5 relative: 2^(-x·log2 e) split into a whole power of two,
 /// made from exponent bits, and a polynomial of the rest, in plain arithmetic without branches
 /// (so that loops of it run in vector lanes, with the same bits on any machine).
 #[inline(always)]

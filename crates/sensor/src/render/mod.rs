@@ -49,10 +49,10 @@ pub struct Settings {
     /// Filter the frame's path-tracing noise with an edge-aware denoiser guided by each pixel's
     /// first surface (its albedo, normal and point).
     pub denoise: bool,
-    /// The share of paths that go on past their first surface, drawn per path (0.001 to 1): the
-    /// others end with the light that surface receives straight from the lights, and the
-    /// light those that go on bring back counts 1 / share times (unbiased: fewer rays, more
-    /// noise for the denoiser to take).
+    /// The share of paths that go on past their first surface, drawn per path
+    /// ([`BOUNCE_SHARE`]): the others end with the light that surface receives straight from
+    /// the lights, and the light those that go on bring back counts 1 / share times (unbiased:
+    /// fewer rays, more noise for the denoiser to take).
     pub bounce_share: f32,
 }
 
@@ -99,7 +99,7 @@ impl Settings {
             (
                 "render.bounce_share",
                 self.bounce_share,
-                0.001..=1.0,
+                BOUNCE_SHARE,
                 "0.001 to 1",
             ),
             ("render.motion", mx, -1.0..=1.0, "-1 to 1 m per axis"),
@@ -147,6 +147,9 @@ pub fn srgb8(linear: f32) -> u8 {
 
 /// Draws per path vertex: the BSDF's three and, per light, two.
 const DRAWS_PER_VERTEX: u64 = 16;
+/// The shares of paths going on past their first surface that [`Settings::bounce_share`] may
+/// take.
+pub const BOUNCE_SHARE: std::ops::RangeInclusive<f32> = 0.001..=1.0;
 /// Most lights a scene may have (each takes two draws of a vertex).
 pub const MAX_LIGHTS: usize = 6;
 /// Offset of a ray leaving a surface along its normal, metres.
