@@ -7,7 +7,7 @@
 //! `OUT_DIR/scene.json`: the camera (a pinhole: the sensor's intrinsics without distortion, no
 //! depth of field, no motion), the sample's lights, every object's triangles and material, and
 //! the exposure (the automatic exposure of the converged frame); `OUT_DIR/ours.png`: the
-//! frame at the configuration's samples, bounces, denoising and bounce share;
+//! frame at the configuration's samples, bounces, denoising and light block;
 //! `OUT_DIR/ours-converged.png`: at 256 paths and 3 bounces; both 8-bit sRGB at that exposure,
 //! without the camera's noise. The seconds the sample takes in full (scan, render, annotations)
 //! and each frame are printed.
@@ -46,26 +46,26 @@ fn main() {
     let mut k = sample.sensor.intrinsics;
     k.distortion = Distortion::default();
     let pose = sample.views[0].pose;
-    let frame = |samples, bounces, denoise, bounce_share| {
+    let frame = |samples, bounces, denoise, light_block| {
         let settings = Settings {
             samples,
             bounces,
             seed: 1,
             denoise,
-            bounce_share,
+            light_block,
             ..Settings::default()
         };
         let t = Instant::now();
         let image = render(&world, &k, &pose, &lighting, &settings).expect("a frame");
         println!(
-            "{samples} paths, {bounces} bounces, denoised {denoise}: {:.3} s",
+            "{samples} paths, {bounces} bounces, denoised {denoise}, light block {light_block}: {:.3} s",
             t.elapsed().as_secs_f64()
         );
         image
     };
-    let converged = frame(256, 3, false, 1.0);
+    let converged = frame(256, 3, false, 1);
     let r = &recipe.config.render;
-    let ours = frame(r.samples, r.bounces, r.denoise, r.bounce_share);
+    let ours = frame(r.samples, r.bounces, r.denoise, r.light_block);
     let exposure = 0.18 / converged.mean_luminance();
     std::fs::create_dir_all(out).expect("the output folder");
     for (file, image) in [("ours.png", &ours), ("ours-converged.png", &converged)] {

@@ -34,7 +34,7 @@ pub(crate) fn colour(
         focus: sensor.colour.focus,
         motion: [travel * angle.cos(), travel * angle.sin(), 0.0],
         denoise: config.denoise,
-        bounce_share: config.bounce_share,
+        light_block: config.light_block,
     };
     let mut frame = render(world, k, &scan.pose, lighting, &settings)
         .map_err(|e| Error::Config(e.to_string()))?;

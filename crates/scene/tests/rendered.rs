@@ -101,9 +101,13 @@ fn renders_that_cannot_be_made_are_refused_by_key() {
             "output.jpeg_quality",
         ),
         (vec![("render.samples", 0.into())], "render.samples"),
+        (vec![("render.light_block", 0.into())], "render.light_block"),
         (
-            vec![("render.bounce_share", 0.0.into())],
-            "render.bounce_share",
+            vec![
+                ("render.light_block", 2.into()),
+                ("render.denoise", false.into()),
+            ],
+            "render.light_block",
         ),
         (
             vec![(

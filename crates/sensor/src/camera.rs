@@ -279,6 +279,73 @@ impl Intrinsics {
     }
 }
 
+/// A camera's rays through any point of its image, for casting many rays per pixel: without
+/// distortion [`Intrinsics::ray`] itself; with it, the normalised coordinates undistorted once on
+/// a grid every [`RayGrid::STEP`] pixels and interpolated bilinearly between (the inverse
+/// distortion is smooth: within 0.001 pixel of [`Intrinsics::ray`] for the industrial preset's
+/// lens, 0.003 for one three times as strong).
+pub(crate) struct RayGrid {
+    k: Intrinsics,
+    /// Grid points per row.
+    cols: usize,
+    /// Undistorted normalised coordinates (x, y) of the grid's points, row by row, from pixel
+    /// (-1, -1).
+    points: Vec<(f64, f64)>,
+}
+
+impl RayGrid {
+    /// Pixels between grid points.
+    pub(crate) const STEP: f64 = 8.0;
+
+    /// The grid of `k`, covering its image and a pixel beyond each edge.
+    pub(crate) fn new(k: &Intrinsics) -> RayGrid {
+        if k.distortion.is_none() {
+            return RayGrid {
+                k: *k,
+                cols: 0,
+                points: Vec::new(),
+            };
+        }
+        let count = |n: u32| ((f64::from(n) + 1.0) / Self::STEP).ceil() as usize + 2;
+        let (cols, rows) = (count(k.width), count(k.height));
+        let points = (0..rows)
+            .flat_map(|r| (0..cols).map(move |c| (c, r)))
+            .map(|(c, r)| {
+                let (u, v) = (c as f64 * Self::STEP - 1.0, r as f64 * Self::STEP - 1.0);
+                k.distortion.undistort((u - k.cx) / k.fx, (v - k.cy) / k.fy)
+            })
+            .collect();
+        RayGrid {
+            k: *k,
+            cols,
+            points,
+        }
+    }
+
+    /// Unit direction, in the camera frame, of the ray through pixel coordinates (u, v), for
+    /// u and v from -1 to the width and height.
+    #[inline]
+    pub(crate) fn ray(&self, u: f64, v: f64) -> Vec3 {
+        if self.points.is_empty() {
+            return self.k.ray(u, v);
+        }
+        let (gu, gv) = ((u + 1.0) / Self::STEP, (v + 1.0) / Self::STEP);
+        let rows = self.points.len() / self.cols;
+        let (c, r) = (
+            (gu as usize).min(self.cols - 2),
+            (gv as usize).min(rows - 2),
+        );
+        let (fu, fv) = (gu - c as f64, gv - r as f64);
+        let at = |c: usize, r: usize| self.points[r * self.cols + c];
+        let lerp =
+            |a: (f64, f64), b: (f64, f64), f: f64| (a.0 + (b.0 - a.0) * f, a.1 + (b.1 - a.1) * f);
+        let top = lerp(at(c, r), at(c + 1, r), fu);
+        let bottom = lerp(at(c, r + 1), at(c + 1, r + 1), fu);
+        let (x, y) = lerp(top, bottom, fv);
+        Vec3::new(x as f32, y as f32, 1.0).normalize()
+    }
+}
+
 /// The camera-to-world pose of a camera at `eye` looking at `target`, with image "up" as close
 /// to `up` as possible (x right, y down, z forward). Looking along `up` itself, world +y (or +x)
 /// serves as up.
@@ -293,4 +360,40 @@ pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Option<Affine3A> {
         matrix3: Mat3A::from_cols(right.into(), down.into(), forward.into()),
         translation: Vec3A::from(eye),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ray_grid_follows_the_lens_within_thousandths_of_a_pixel() {
+        // the industrial preset's lens and one bent three times as hard, at pixel coordinates
+        // across the image and a pixel beyond its edges
+        let mut k = Intrinsics::from_fov(1280, 1024, 40.0, 32.0);
+        for (k1, k2, p, within) in [(-0.10, 0.15, 1e-4, 1e-3), (-0.30, 0.45, 3e-4, 3e-3)] {
+            k.distortion = Distortion {
+                k1,
+                k2,
+                p1: p,
+                p2: -p,
+                ..Distortion::default()
+            };
+            let grid = RayGrid::new(&k);
+            let mut worst: f64 = 0.0;
+            for i in 0..=200 {
+                for j in 0..=160 {
+                    let (u, v) = (i as f64 * 6.405 - 1.0, j as f64 * 6.4 - 1.0);
+                    let (got, want) = (grid.ray(u, v), k.ray(u, v));
+                    let (gu, gv) = k.project(got).expect("in front");
+                    let (wu, wv) = k.project(want).expect("in front");
+                    worst = worst.max((gu - wu).hypot(gv - wv));
+                }
+            }
+            assert!(worst < within, "k1 {k1}: {worst} px");
+        }
+        // without distortion the grid is the camera's own ray
+        k.distortion = Distortion::default();
+        assert_eq!(RayGrid::new(&k).ray(3.25, 7.5), k.ray(3.25, 7.5));
+    }
 }

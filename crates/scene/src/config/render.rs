@@ -25,9 +25,10 @@ pub struct RenderConfig {
     /// Filter the paths' noise with an edge-aware denoiser guided by each pixel's first
     /// surface (`sensor::render::Settings::denoise`).
     pub denoise: bool,
-    /// The share of paths that go on past their first surface
-    /// (`sensor::render::Settings::bounce_share`).
-    pub bounce_share: f32,
+    /// Pixels per side of the blocks in each of which one pixel's light is path-traced, the
+    /// others taking theirs from the blocks around after the denoiser
+    /// (`sensor::render::Settings::light_block`).
+    pub light_block: u32,
     /// The camera's automatic exposure: the frame's mean luminance brought to 0.18 (a mid
     /// grey) before `exposure`, as a camera's auto-exposure meters a scene.
     pub auto_exposure: bool,
@@ -67,12 +68,19 @@ impl RenderConfig {
         if self.bounces > 16 {
             return Err(Error::invalid("render.bounces", self.bounces, "0 to 16"));
         }
-        if !sensor::render::BOUNCE_SHARE.contains(&self.bounce_share) {
+        let blocks = sensor::render::LIGHT_BLOCK;
+        if !blocks.contains(&self.light_block) {
             return Err(Error::invalid(
-                "render.bounce_share",
-                self.bounce_share,
-                "0.001 to 1",
+                "render.light_block",
+                self.light_block,
+                format!("{} to {} pixels", blocks.start(), blocks.end()),
             ));
+        }
+        if self.light_block > 1 && !self.denoise {
+            return Err(Error::Config(format!(
+                "render.light_block = {} needs render.denoise = true: the blocks' light is spread after denoising",
+                self.light_block
+            )));
         }
         self.exposure.check("render.exposure", -16.0, 16.0)?;
         self.motion.check("render.motion", 0.0, 0.5)

@@ -24,6 +24,13 @@ pub(super) struct Guide {
     pub(super) distance: f32,
 }
 
+impl Guide {
+    /// What the light is divided by before filtering: the albedo, kept from zero.
+    pub(super) fn divisor(&self) -> Vec3 {
+        self.albedo.max(Vec3::splat(MIN_ALBEDO))
+    }
+}
+
 /// Levels of the filter: taps 1, 2, 4, 8 and 16 pixels apart (a footprint of 63 pixels).
 const LEVELS: u32 = 5;
 /// Tolerance of the luminance stop in standard deviations of the noise (SVGF's σl).
@@ -31,7 +38,7 @@ const SIGMA_LUMINANCE: f32 = 4.0;
 /// Tolerance of the plane stop: how far from a pixel's plane a tap may lie, in pixel widths at
 /// the pixel's distance (at any tap distance: a surface behind or before stays apart however
 /// wide the filter).
-const SIGMA_PLANE: f32 = 1.0;
+pub(super) const SIGMA_PLANE: f32 = 1.0;
 /// Smallest albedo the light is divided by.
 const MIN_ALBEDO: f32 = 0.02;
 /// The B-spline weights of a level's three taps along each axis.
@@ -72,7 +79,6 @@ pub(super) fn denoise(
     pixel_angle: f32,
 ) {
     let n = pixels.len();
-    let albedo = |g: &Guide| g.albedo.max(Vec3::splat(MIN_ALBEDO));
     let mut surfaces = Surfaces {
         width,
         height: n / width.max(1),
@@ -115,7 +121,7 @@ pub(super) fn denoise(
                 for x in 0..width {
                     let i = y * width + x;
                     let Some(g) = &guides[i] else { continue };
-                    let l = Vec3::from(pixels[i]) / albedo(g);
+                    let l = Vec3::from(pixels[i]) / g.divisor();
                     let reach = 1.0 / (g.distance * pixel_angle * SIGMA_PLANE).max(1e-12);
                     let values = [
                         g.normal.x,
@@ -151,7 +157,7 @@ pub(super) fn denoise(
         .for_each(|(i, (p, g))| {
             if let Some(g) = g {
                 let l = Vec3::new(light.rgb[0][i], light.rgb[1][i], light.rgb[2][i]);
-                *p = (l * albedo(g)).to_array();
+                *p = (l * g.divisor()).to_array();
             }
         });
 }
@@ -320,7 +326,7 @@ impl Surfaces {
 
 /// The normals' edge stop: the cosine to the 128th power (SVGF's σn), by squaring.
 #[inline(always)]
-fn pow128(c: f32) -> f32 {
+pub(super) fn pow128(c: f32) -> f32 {
     (0..7).fold(c, |c, _| c * c)
 }
 
@@ -328,7 +334,7 @@ fn pow128(c: f32) -> f32 {
 /// made from exponent bits, and a polynomial of the rest, in plain arithmetic without branches
 /// (so that loops of it run in vector lanes, with the same bits on any machine).
 #[inline(always)]
-fn exp_neg(x: f32) -> f32 {
+pub(super) fn exp_neg(x: f32) -> f32 {
     /// Adding 1.5 × 2^23 rounds a float of magnitude below 2^22 to a whole number, which
     /// its low mantissa bits then hold.
     const ROUND: f32 = 12_582_912.0;

@@ -11,20 +11,24 @@
 
 pub(crate) mod bsdf;
 mod denoise;
+mod fill;
+mod frame;
 mod light;
+mod path;
 
 use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
-use crate::camera::Intrinsics;
-use crate::noise::PixelRng;
+use crate::camera::{Intrinsics, RayGrid};
 use crate::world::World;
-use bsdf::Bsdf;
 use denoise::{Guide, denoise};
-use light::{Emitter, Incoming};
+use fill::fill;
+use frame::{Frame, TILE, choices};
+use light::Emitter;
 pub use light::{Light, Lighting};
+use path::Scene;
 
 /// How a frame is rendered.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -49,11 +53,13 @@ pub struct Settings {
     /// Filter the frame's path-tracing noise with an edge-aware denoiser guided by each pixel's
     /// first surface (its albedo, normal and point).
     pub denoise: bool,
-    /// The share of paths that go on past their first surface, drawn per path
-    /// ([`BOUNCE_SHARE`]): the others end with the light that surface receives straight from
-    /// the lights, and the light those that go on bring back counts 1 / share times (unbiased:
-    /// fewer rays, more noise for the denoiser to take).
-    pub bounce_share: f32,
+    /// Pixels per side of the square blocks ([`LIGHT_BLOCK`]) in each of which the light of
+    /// one pixel, drawn per block, is path-traced (1: every pixel's); the others see their
+    /// first surface only and, after the traced light is denoised, take theirs from the blocks
+    /// around them over like surfaces (its albedo divided out, theirs multiplied in, so every
+    /// pixel keeps its own surface's colour). Above 1 it needs [`Settings::denoise`]: fewer
+    /// paths for light that varies more slowly than the surfaces' colours.
+    pub light_block: u32,
 }
 
 impl Default for Settings {
@@ -66,7 +72,7 @@ impl Default for Settings {
             focus: 1.0,
             motion: [0.0; 3],
             denoise: false,
-            bounce_share: 1.0,
+            light_block: 1,
         }
     }
 }
@@ -76,7 +82,9 @@ impl Settings {
     ///
     /// # Errors
     ///
-    /// [`Error::Invalid`] for samples outside 1 to 65536 or bounces above 64.
+    /// [`Error::Invalid`] for samples outside 1 to 65536, bounces above 64, a light block
+    /// outside [`LIGHT_BLOCK`] or above 1 without the denoiser, or an aperture, focus or
+    /// motion out of range.
     pub fn validate(&self) -> Result<(), Error> {
         if !(1..=65536).contains(&self.samples) {
             return Err(Error::Invalid {
@@ -92,16 +100,21 @@ impl Settings {
                 allowed: "0 to 64".into(),
             });
         }
+        if !LIGHT_BLOCK.contains(&self.light_block) || (self.light_block > 1 && !self.denoise) {
+            return Err(Error::Invalid {
+                key: "render.light_block".into(),
+                value: self.light_block.to_string(),
+                allowed: format!(
+                    "{} to {} pixels, above 1 only with the denoiser",
+                    LIGHT_BLOCK.start(),
+                    LIGHT_BLOCK.end()
+                ),
+            });
+        }
         let [mx, my, mz] = self.motion;
         crate::spec::within([
             ("render.aperture", self.aperture, 0.0..=1.0, "0 to 1 m"),
             ("render.focus", self.focus, 0.01..=1000.0, "0.01 to 1000 m"),
-            (
-                "render.bounce_share",
-                self.bounce_share,
-                BOUNCE_SHARE,
-                "0.001 to 1",
-            ),
             ("render.motion", mx, -1.0..=1.0, "-1 to 1 m per axis"),
             ("render.motion", my, -1.0..=1.0, "-1 to 1 m per axis"),
             ("render.motion", mz, -1.0..=1.0, "-1 to 1 m per axis"),
@@ -147,15 +160,14 @@ pub fn srgb8(linear: f32) -> u8 {
 
 /// Draws per path vertex: the BSDF's three and, per light, two.
 const DRAWS_PER_VERTEX: u64 = 16;
-/// The shares of paths going on past their first surface that [`Settings::bounce_share`] may
-/// take.
-pub const BOUNCE_SHARE: std::ops::RangeInclusive<f32> = 0.001..=1.0;
+/// The sides of the blocks of pixels [`Settings::light_block`] may take.
+pub const LIGHT_BLOCK: std::ops::RangeInclusive<u32> = 1..=8;
 /// Most lights a scene may have (each takes two draws of a vertex).
 pub const MAX_LIGHTS: usize = 6;
 /// Offset of a ray leaving a surface along its normal, metres.
 const EPSILON: f32 = 2e-5;
-/// The draws of a camera ray's lens point and time, and of whether its path goes on past the
-/// first surface, beyond those of any path's vertices.
+/// The draws of a camera ray's lens point and time, and of which pixel of a light block traces
+/// its light, beyond those of any path's vertices.
 const CAMERA_DRAWS: u64 = 1 << 20;
 
 /// Renders what a camera of `intrinsics` at camera-to-world `pose` (x right, y down, z
@@ -210,171 +222,62 @@ pub fn render(
         settings: *settings,
     };
     let (width, height) = (intrinsics.width as usize, intrinsics.height as usize);
-    let motion = Vec3::from(settings.motion);
+    let block = settings.light_block as usize;
+    let frame = Frame {
+        scene,
+        pose: *pose,
+        rays: RayGrid::new(intrinsics),
+        width,
+        motion: Vec3::from(settings.motion),
+        sparse: block > 1,
+        block,
+        choices: if block > 1 {
+            choices(width, height, block, settings.seed)
+        } else {
+            Vec::new()
+        },
+    };
     let mut pixels = vec![[0.0f32; 3]; width * height];
-    // each row's guides for the denoiser (a placeholder per row without it)
-    let per_row = if settings.denoise { width } else { 1 };
-    let mut guides = vec![None; per_row * height];
+    // each pixel's guide for the denoiser (without it, a placeholder per band of tiles)
+    let (guides_len, guide_rows) = if settings.denoise {
+        (width * height, TILE * width)
+    } else {
+        (height.div_ceil(TILE), 1)
+    };
+    let mut guides = vec![None; guides_len];
+    // a task per band of tiles
     pixels
-        .par_chunks_mut(width)
-        .zip(guides.par_chunks_mut(per_row))
+        .par_chunks_mut(TILE * width)
+        .zip(guides.par_chunks_mut(guide_rows))
         .enumerate()
-        .for_each(|(row, (out, guides))| {
-            for (col, px) in out.iter_mut().enumerate() {
-                let index = (row * width + col) as u64;
-                let mut sum = Vec3::ZERO;
-                for s in 0..settings.samples {
-                    let rng = PixelRng::new(settings.seed, index * 65536 + u64::from(s));
-                    let (u, v) = (
-                        col as f64 - 0.5 + f64::from(rng.uniform(0)),
-                        row as f64 - 0.5 + f64::from(rng.uniform(1)),
-                    );
-                    let (origin, dir) = camera_ray(intrinsics.ray(u, v), settings, motion, rng);
-                    let (origin, dir) =
-                        (pose.transform_point3(origin), pose.transform_vector3(dir));
-                    let (radiance, guide) = scene.path(origin, dir.normalize(), rng);
-                    sum += radiance;
-                    if s == 0 && settings.denoise {
-                        guides[col] = guide;
-                    }
-                }
-                *px = (sum / settings.samples as f32).to_array();
-            }
-        });
+        .for_each(|(band, (out, guides))| frame.band(band, out, guides));
     if settings.denoise {
-        denoise(&mut pixels, &guides, width, (1.0 / intrinsics.fx) as f32);
+        let pixel_angle = (1.0 / intrinsics.fx) as f32;
+        if block == 1 {
+            denoise(&mut pixels, &guides, width, pixel_angle);
+        } else {
+            // the traced pixels as a frame of their own, a block apart, denoised, then their
+            // light spread over the blocks
+            let choices = &frame.choices;
+            let mut light: Vec<[f32; 3]> = choices.iter().map(|&i| pixels[i]).collect();
+            let traced: Vec<Option<Guide>> = choices.iter().map(|&i| guides[i]).collect();
+            let across = width.div_ceil(block);
+            denoise(&mut light, &traced, across, pixel_angle * block as f32);
+            fill(
+                &mut pixels,
+                &guides,
+                width,
+                (&light, choices),
+                block,
+                pixel_angle,
+            );
+        }
     }
     Ok(Image {
         width: intrinsics.width,
         height: intrinsics.height,
         pixels,
     })
-}
-
-/// A camera ray in the camera's frame for the pinhole ray `pinhole` (unit): from a point of a
-/// thin lens's aperture through the pinhole ray's point on the plane in focus, and from where
-/// the camera is at a moment of the exposure.
-#[inline]
-fn camera_ray(pinhole: Vec3, settings: &Settings, motion: Vec3, rng: PixelRng) -> (Vec3, Vec3) {
-    let mut origin = Vec3::ZERO;
-    let mut dir = pinhole;
-    if settings.aperture > 0.0 {
-        // a uniform point of the aperture's disc
-        let r = settings.aperture * rng.uniform(CAMERA_DRAWS).sqrt();
-        let phi = std::f32::consts::TAU * rng.uniform(CAMERA_DRAWS + 1);
-        let lens = Vec3::new(r * phi.cos(), r * phi.sin(), 0.0);
-        let focused = pinhole * (settings.focus / pinhole.z);
-        origin = lens;
-        dir = (focused - lens).normalize();
-    }
-    if motion != Vec3::ZERO {
-        origin += motion * (rng.uniform(CAMERA_DRAWS + 2) - 0.5);
-    }
-    (origin, dir)
-}
-
-struct Scene<'a> {
-    world: &'a World,
-    emitters: Vec<Emitter>,
-    environment: Vec3,
-    settings: Settings,
-}
-
-impl Scene<'_> {
-    /// The radiance one path from `origin` along `dir` brings back, and what its first surface
-    /// shows the denoiser.
-    fn path(&self, mut origin: Vec3, mut dir: Vec3, rng: PixelRng) -> (Vec3, Option<Guide>) {
-        let mut radiance = Vec3::ZERO;
-        let mut guide = None;
-        let mut throughput = Vec3::ONE;
-        // the pdf of the BSDF sample that chose `dir` (none for the camera's ray)
-        let mut bsdf_pdf: Option<f32> = None;
-        // the vertex after the last bounce only gathers what its ray meets: a light (the BSDF's
-        // share of the last vertex's light, under multiple importance sampling) or the
-        // environment
-        let last = u64::from(self.settings.bounces);
-        for vertex in 0..=last + 1 {
-            let draws = 2 + vertex * DRAWS_PER_VERTEX;
-            let u = |k: u64| rng.uniform(draws + k);
-            let hit = self.world.cast(origin, dir, f32::INFINITY);
-            let t_max = hit.map_or(f32::INFINITY, |h| h.t);
-            if let Some((_, emitted, light_pdf)) = self
-                .emitters
-                .iter()
-                .filter_map(|e| e.hit(origin, dir, t_max))
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-            {
-                let weight = bsdf_pdf.map_or(1.0, |p| power_heuristic(p, light_pdf));
-                radiance += throughput * emitted * weight;
-                break;
-            }
-            let Some(hit) = hit else {
-                radiance += throughput * self.environment;
-                break;
-            };
-            if vertex > last {
-                break;
-            }
-            let x = origin + dir * hit.t;
-            let wo = -dir;
-            let Some(bsdf) = Bsdf::new(&hit.material, hit.normal, wo) else {
-                break;
-            };
-            if vertex == 0 {
-                guide = Some(Guide {
-                    albedo: bsdf.albedo(),
-                    normal: hit.normal,
-                    point: x,
-                    distance: hit.t,
-                });
-            }
-            let lift = x + hit.normal * EPSILON;
-            for (k, emitter) in self.emitters.iter().enumerate() {
-                let k = 3 + 2 * k as u64;
-                let Some(Incoming {
-                    wi,
-                    distance,
-                    value,
-                    pdf,
-                }) = emitter.sample(x, [u(k), u(k + 1)])
-                else {
-                    continue;
-                };
-                let (f, pdf_bsdf) = bsdf.eval(wi);
-                if f == Vec3::ZERO || self.world.occluded(lift, wi, distance * (1.0 - 1e-4)) {
-                    continue;
-                }
-                radiance += if pdf == 0.0 {
-                    throughput * f * value
-                } else {
-                    throughput * f * value * (power_heuristic(pdf, pdf_bsdf) / pdf)
-                };
-            }
-            if vertex == 0 && self.settings.bounce_share < 1.0 {
-                if rng.uniform(CAMERA_DRAWS + 3) >= self.settings.bounce_share {
-                    break;
-                }
-                throughput /= self.settings.bounce_share;
-            }
-            let Some(sampled) = bsdf.sample([u(0), u(1), u(2)]) else {
-                break;
-            };
-            throughput *= sampled.weight;
-            bsdf_pdf = Some(sampled.pdf);
-            origin = lift;
-            dir = sampled.wi;
-        }
-        (radiance, guide)
-    }
-}
-
-fn power_heuristic(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2.is_infinite() {
-        1.0
-    } else {
-        a2 / (a2 + b2)
-    }
 }
 
 #[cfg(test)]

@@ -153,11 +153,17 @@ fn one_denoised_path_keeps_the_white_furnace_and_removes_its_noise() {
 }
 
 #[test]
-fn paths_that_go_on_past_the_first_surface_by_a_share_keep_the_mean() {
-    // a grey plane under the surroundings and a point light: the light straight from the lamp
-    // at every pixel, the surroundings' only through paths that go on; a quarter of them,
-    // counted four times, bring back the same mean with more noise
-    let world = plane(lambert(0.5));
+fn light_blocks_keep_the_mean_and_each_pixels_colour() {
+    // a plane, grey on the left and four times brighter on the right, under a point light and
+    // the surroundings: the light traced at one pixel in nine, denoised and spread, gives each
+    // side the mean every pixel's paths give, and keeps the sides four times apart to their
+    // seam (the light divided by one albedo, multiplied by another)
+    let half = |x0: f32, albedo: f32| {
+        // half extents: each half 2 m wide, meeting at x = 0
+        let tris = shapes::rectangle(Vec3::new(x0, 0.0, 0.0), Vec3::X, Vec3::Y * 2.0);
+        Target::from_triangles(&tris, 1, 1, lambert(albedo))
+    };
+    let world = World::new(&[half(-1.0, 0.2), half(1.0, 0.8)]);
     let lighting = Lighting {
         lights: vec![Light::Point {
             position: [0.0, 0.0, 1.0],
@@ -167,25 +173,51 @@ fn paths_that_go_on_past_the_first_surface_by_a_share_keep_the_mean() {
         environment: [0.5; 3],
     };
     let camera = Intrinsics::from_fov(48, 48, 40.0, 40.0);
-    let frame = |bounce_share| {
+    let frame = |light_block| {
         let settings = Settings {
             samples: 64,
-            bounce_share,
+            denoise: true,
+            light_block,
             ..Settings::default()
         };
-        let image = render(&world, &camera, &above(2.0), &lighting, &settings).unwrap();
-        centre_mean(&image, &camera, 2.0, 0.5).x
+        render(&world, &camera, &above(2.0), &lighting, &settings).unwrap()
     };
-    let (all, quarter) = (frame(1.0), frame(0.25));
-    assert!(
-        (quarter / all - 1.0).abs() < 0.01,
-        "{quarter} against {all}"
-    );
-    let invalid = Settings {
-        bounce_share: 0.0,
-        ..Settings::default()
+    // the mean of columns `cols` over the middle rows
+    let mean = |image: &Image, cols: std::ops::Range<u32>| {
+        let rows = 16..32;
+        let sum: f32 = rows
+            .clone()
+            .flat_map(|r| cols.clone().map(move |c| (r * image.width + c) as usize))
+            .map(|i| image.pixels[i][0])
+            .sum();
+        sum / (rows.len() * cols.len()) as f32
     };
-    assert!(render(&world, &camera, &above(2.0), &lighting, &invalid).is_err());
+    let (all, blocks) = (frame(1), frame(3));
+    for cols in [8..23, 25..40] {
+        let (a, b) = (mean(&all, cols.clone()), mean(&blocks, cols.clone()));
+        assert!((b / a - 1.0).abs() < 0.02, "{cols:?}: {b} against {a}");
+    }
+    // the columns either side of the seam (column 23.5)
+    let (left, right) = (mean(&blocks, 22..23), mean(&blocks, 25..26));
+    assert!((right / left / 4.0 - 1.0).abs() < 0.05, "{right} / {left}");
+    for invalid in [
+        Settings {
+            light_block: 0,
+            denoise: true,
+            ..Settings::default()
+        },
+        Settings {
+            light_block: 9,
+            denoise: true,
+            ..Settings::default()
+        },
+        Settings {
+            light_block: 2,
+            ..Settings::default()
+        },
+    ] {
+        assert!(render(&world, &camera, &above(2.0), &lighting, &invalid).is_err());
+    }
 }
 
 #[test]
