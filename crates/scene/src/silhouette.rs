@@ -61,16 +61,37 @@ impl Silhouette {
             None => (w.cols.clone(), w.rows.clone()),
         };
         let world = World::new(targets);
-        let origin = scan.pose.translation.into();
-        let inside = rows
-            .clone()
-            .flat_map(|r| cols.clone().map(move |c| (c, r)))
-            .map(|(c, r)| {
-                let ray = k.ray(c as f64, r as f64);
-                let dir = scan.pose.transform_vector3(ray);
-                world.cast(origin, dir, sensor.reach(ray)).is_some()
-            })
-            .collect();
+        let origin = Vec3::from(scan.pose.translation);
+        let (w, h) = (cols.len(), rows.len());
+        let mut inside = vec![false; w * h];
+        let centres = k.centre_rays();
+        // 4×4 pixels at a time, their rays traced as one packet
+        for top in (0..h).step_by(4) {
+            for left in (0..w).step_by(4) {
+                let mut dirs = [[Vec3::Z; 4]; 4];
+                // idle lanes past the window's edge
+                let mut reach = [[0.0f32; 4]; 4];
+                for (r, c) in (0..4).flat_map(|r| (0..4).map(move |c| (r, c))) {
+                    if top + r < h && left + c < w {
+                        let (col, row) = (cols.start + left + c, rows.start + top + r);
+                        let ray = match &centres {
+                            Some(rays) => rays[row * k.width as usize + col],
+                            None => k.ray(col as f64, row as f64),
+                        };
+                        dirs[r][c] = scan.pose.transform_vector3(ray);
+                        reach[r][c] = sensor.reach(ray);
+                    }
+                }
+                let met = world
+                    .bvh()
+                    .occluded_packet(&[[origin; 4]; 4], &dirs, &reach);
+                for (r, met) in met.iter().enumerate().take(h - top) {
+                    let row = (top + r) * w + left;
+                    let n = (w - left).min(4);
+                    inside[row..row + n].copy_from_slice(&met[..n]);
+                }
+            }
+        }
         Silhouette {
             origin: [cols.start, rows.start],
             size: [cols.len(), rows.len()],

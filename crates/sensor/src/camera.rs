@@ -2,7 +2,10 @@
 //! them), binning and poses. Camera frame as OpenCV and Zivid: x right (towards the projector),
 //! y down, z forward. Pixel (u, v) = (column, row) has its centre at integer coordinates.
 
+use std::sync::{Arc, Mutex};
+
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -257,6 +260,14 @@ impl Intrinsics {
         Vec3::new(x as f32, y as f32, 1.0).normalize()
     }
 
+    /// The unit ray, camera frame, through the centre of each pixel, row by row: exactly
+    /// [`Intrinsics::ray`] at whole coordinates, undistorted once per camera and shared (the
+    /// last few cameras' are kept); None without distortion, whose rays cost less to make than
+    /// to read.
+    pub fn centre_rays(&self) -> Option<Arc<[Vec3]>> {
+        centre_rays(self)
+    }
+
     /// Pixel coordinates (u, v) of a camera-frame point in front of the camera.
     pub fn project(&self, p: Vec3) -> Option<(f64, f64)> {
         if p.z <= 0.0 {
@@ -277,6 +288,43 @@ impl Intrinsics {
             half(self.height as f64, self.cy, self.fy).to_degrees(),
         )
     }
+}
+
+/// The rays through the pixels' centres of the cameras that cast them last: each camera's
+/// undistorted once (a frame's rays every frame otherwise).
+static CENTRES: Mutex<Vec<(Intrinsics, Arc<[Vec3]>)>> = Mutex::new(Vec::new());
+/// Cameras whose centre rays [`centre_rays`] keeps.
+const CAMERAS_KEPT: usize = 4;
+
+/// [`Intrinsics::centre_rays`].
+fn centre_rays(k: &Intrinsics) -> Option<Arc<[Vec3]>> {
+    if k.distortion.is_none() {
+        return None;
+    }
+    let kept = || {
+        CENTRES
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    };
+    if let Some((_, rays)) = kept().iter().find(|(other, _)| other == k) {
+        return Some(rays.clone());
+    }
+    // made without the lock: a thread waiting here may be the one a parallel loop inside
+    // another thread's making runs a task on
+    let width = k.width as usize;
+    let rays: Arc<[Vec3]> = (0..width * k.height as usize)
+        .into_par_iter()
+        .map(|i| k.ray((i % width) as f64, (i / width) as f64))
+        .collect::<Vec<_>>()
+        .into();
+    let mut kept = kept();
+    if !kept.iter().any(|(other, _)| other == k) {
+        if kept.len() == CAMERAS_KEPT {
+            kept.remove(0);
+        }
+        kept.push((*k, rays.clone()));
+    }
+    Some(rays)
 }
 
 /// A camera's rays through any point of its image, for casting many rays per pixel: without
@@ -395,5 +443,19 @@ mod tests {
         // without distortion the grid is the camera's own ray
         k.distortion = Distortion::default();
         assert_eq!(RayGrid::new(&k).ray(3.25, 7.5), k.ray(3.25, 7.5));
+    }
+
+    #[test]
+    fn centre_rays_are_the_cameras_own_made_once() {
+        let mut k = Intrinsics::from_fov(64, 48, 40.0, 30.0);
+        assert!(k.centre_rays().is_none());
+        k.distortion.k1 = -0.2;
+        let rays = k.centre_rays().expect("a lens with distortion");
+        for (i, ray) in rays.iter().enumerate() {
+            assert_eq!(*ray, k.ray((i % 64) as f64, (i / 64) as f64));
+        }
+        assert!(Arc::ptr_eq(&rays, &k.centre_rays().expect("kept")));
+        k.distortion.k1 = -0.1;
+        assert_ne!(k.centre_rays().expect("another camera")[0], rays[0]);
     }
 }

@@ -30,6 +30,9 @@ pub(super) struct Capture<'a> {
     pub(super) to_camera: Mat3A,
     /// Whether the camera has no distortion.
     pub(super) pinhole: bool,
+    /// The rays through the pixels' centres of a camera with distortion
+    /// ([`Intrinsics::centre_rays`](crate::Intrinsics::centre_rays)).
+    centres: Option<std::sync::Arc<[Vec3]>>,
     pub(super) pose: Affine3A,
     /// The camera's centre, world frame.
     pub(super) origin: Vec3,
@@ -111,6 +114,7 @@ impl<'a> Capture<'a> {
             projector,
             to_camera: pose.matrix3.transpose(),
             pinhole,
+            centres: k.centre_rays(),
             pose: *pose,
             origin: Vec3::from(pose.translation),
             region: region.copied(),
@@ -277,7 +281,11 @@ impl<'a> Capture<'a> {
                 if c >= width || r >= rows {
                     continue;
                 }
-                let centre = k.ray(c as f64, (BLOCK * band + r) as f64);
+                let row = BLOCK * band + r;
+                let centre = match &self.centres {
+                    Some(rays) => rays[row * width + c],
+                    None => k.ray(c as f64, row as f64),
+                };
                 let dir = self.pose.transform_vector3(centre);
                 if self.casts(dir) {
                     at[g][lane] = Some((c, r));
