@@ -1,7 +1,8 @@
 //! Light blocks ([`Settings::light_block`](super::Settings::light_block)): the light of the
 //! one pixel of each block that traced it, denoised, spread to every pixel of the frame from
-//! the four blocks nearest it: their light divided by their albedo, weighted by distance and by the
-//! denoiser's normal and plane stops (so that it crosses no edge), times the pixel's own albedo.
+//! the four blocks nearest it: their light divided by their albedo, weighted by distance and
+//! by the denoiser's normal and plane stops (so that it crosses no edge), times the pixel's own
+//! albedo.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -21,9 +22,9 @@ struct Traced {
 }
 
 /// Gives each pixel of `pixels` (`width` columns) with a surface in `guides` the light of the
-/// four blocks whose middles are nearest it, each `block` pixels wide: `light[b]` traced at pixel `choices[b]` of
-/// block `b` (blocks row by row); `pixel_angle` is the angle one pixel spans, radians. Pixels
-/// without a surface keep what they have.
+/// four blocks whose middles are nearest it, each `block` pixels wide: `light[b]` traced at
+/// pixel `choices[b]` of block `b` (blocks row by row); `pixel_angle` is the angle one pixel
+/// spans, radians. Pixels without a surface keep what they have.
 pub(super) fn fill(
     pixels: &mut [[f32; 3]],
     guides: &[Option<Guide>],
