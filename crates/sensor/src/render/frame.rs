@@ -23,9 +23,7 @@ pub(super) struct Frame<'a> {
     pub(super) width: usize,
     /// The camera's travel over the exposure, its frame.
     pub(super) motion: Vec3,
-    /// Whether only the pixels of [`Frame::choices`] trace light.
-    pub(super) sparse: bool,
-    /// Side of the light blocks.
+    /// Side of the light blocks (1: every pixel traces light).
     pub(super) block: usize,
     /// The pixel of each light block that traces its light ([`choices`]).
     pub(super) choices: Vec<usize>,
@@ -58,8 +56,9 @@ impl Frame<'_> {
         let top = band * TILE;
         let world = self.scene.world;
         // the band's pixels that trace light
-        let mut traces = vec![!self.sparse; out.len()];
-        if self.sparse {
+        let sparse = self.block > 1;
+        let mut traces = vec![!sparse; out.len()];
+        if sparse {
             let across = width.div_ceil(self.block);
             let band_pixels = top * width..(top + rows) * width;
             for by in top / self.block..=(top + rows - 1) / self.block {

@@ -229,7 +229,6 @@ pub fn render(
         rays: RayGrid::new(intrinsics),
         width,
         motion: Vec3::from(settings.motion),
-        sparse: block > 1,
         block,
         choices: if block > 1 {
             choices(width, height, block, settings.seed)
