@@ -73,11 +73,7 @@ impl Silhouette {
                 let mut reach = [[0.0f32; 4]; 4];
                 for (r, c) in (0..4).flat_map(|r| (0..4).map(move |c| (r, c))) {
                     if top + r < h && left + c < w {
-                        let (col, row) = (cols.start + left + c, rows.start + top + r);
-                        let ray = match &centres {
-                            Some(rays) => rays[row * k.width as usize + col],
-                            None => k.ray(col as f64, row as f64),
-                        };
+                        let ray = centres.ray(cols.start + left + c, rows.start + top + r);
                         dirs[r][c] = scan.pose.transform_vector3(ray);
                         reach[r][c] = sensor.reach(ray);
                     }

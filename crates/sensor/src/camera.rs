@@ -260,12 +260,14 @@ impl Intrinsics {
         Vec3::new(x as f32, y as f32, 1.0).normalize()
     }
 
-    /// The unit ray, camera frame, through the centre of each pixel, row by row: exactly
-    /// [`Intrinsics::ray`] at whole coordinates, undistorted once per camera and shared (the
-    /// last few cameras' are kept); None without distortion, whose rays cost less to make than
-    /// to read.
-    pub fn centre_rays(&self) -> Option<Arc<[Vec3]>> {
-        centre_rays(self)
+    /// The rays through the centres of its pixels: exactly [`Intrinsics::ray`] at whole
+    /// coordinates, with distortion undistorted once per camera and shared (the last few
+    /// cameras' are kept).
+    pub fn centre_rays(&self) -> CentreRays {
+        CentreRays {
+            k: *self,
+            table: centre_rays(self),
+        }
     }
 
     /// Pixel coordinates (u, v) of a camera-frame point in front of the camera.
@@ -296,7 +298,27 @@ static CENTRES: Mutex<Vec<(Intrinsics, Arc<[Vec3]>)>> = Mutex::new(Vec::new());
 /// Cameras whose centre rays [`centre_rays`] keeps.
 const CAMERAS_KEPT: usize = 4;
 
-/// [`Intrinsics::centre_rays`].
+/// The rays through the pixels' centres of a camera ([`Intrinsics::centre_rays`]).
+#[derive(Clone, Debug)]
+pub struct CentreRays {
+    k: Intrinsics,
+    /// Each pixel's ray, row by row, for a camera with distortion (a camera without makes its
+    /// rays for less than reading them costs).
+    table: Option<Arc<[Vec3]>>,
+}
+
+impl CentreRays {
+    /// Unit direction, camera frame, of the ray through the centre of pixel (`col`, `row`).
+    #[inline]
+    pub fn ray(&self, col: usize, row: usize) -> Vec3 {
+        match &self.table {
+            Some(rays) => rays[row * self.k.width as usize + col],
+            None => self.k.ray(col as f64, row as f64),
+        }
+    }
+}
+
+/// The table of [`CentreRays`] of `k`, kept or made; None without distortion.
 fn centre_rays(k: &Intrinsics) -> Option<Arc<[Vec3]>> {
     if k.distortion.is_none() {
         return None;
@@ -448,14 +470,17 @@ mod tests {
     #[test]
     fn centre_rays_are_the_cameras_own_made_once() {
         let mut k = Intrinsics::from_fov(64, 48, 40.0, 30.0);
-        assert!(k.centre_rays().is_none());
+        assert!(k.centre_rays().table.is_none());
         k.distortion.k1 = -0.2;
-        let rays = k.centre_rays().expect("a lens with distortion");
-        for (i, ray) in rays.iter().enumerate() {
-            assert_eq!(*ray, k.ray((i % 64) as f64, (i / 64) as f64));
+        let rays = k.centre_rays();
+        let table = rays.table.clone().expect("a lens with distortion");
+        for i in 0..64 * 48 {
+            let (col, row) = (i % 64, i / 64);
+            assert_eq!(table[i], k.ray(col as f64, row as f64));
+            assert_eq!(rays.ray(col, row), table[i]);
         }
-        assert!(Arc::ptr_eq(&rays, &k.centre_rays().expect("kept")));
+        assert!(Arc::ptr_eq(&table, &k.centre_rays().table.expect("kept")));
         k.distortion.k1 = -0.1;
-        assert_ne!(k.centre_rays().expect("another camera")[0], rays[0]);
+        assert_ne!(k.centre_rays().ray(0, 0), table[0]);
     }
 }

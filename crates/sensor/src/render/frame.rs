@@ -75,17 +75,16 @@ impl Frame<'_> {
                 let mut origins = [[Vec3::ZERO; TILE]; TILE];
                 let mut dirs = [[Vec3::Z; TILE]; TILE];
                 let mut t_max = [[0.0f32; TILE]; TILE];
-                let rng = |r: usize, c: usize| {
-                    let index = ((top + r) * width + c) as u64;
-                    PixelRng::new(settings.seed, index * 65536 + u64::from(s))
-                };
+                let mut rngs = [[PixelRng::new(0, 0); TILE]; TILE];
                 for (r, c) in lanes::<TILE>() {
                     let col = left + c;
                     // past the frame's edge, or a pixel that sees its surface once: an idle lane
                     if r >= rows || col >= width || (s > 0 && !traces[r * width + col]) {
                         continue;
                     }
-                    let rng = rng(r, col);
+                    let index = ((top + r) * width + col) as u64;
+                    let rng = PixelRng::new(settings.seed, index * 65536 + u64::from(s));
+                    rngs[r][c] = rng;
                     let (u, v) = (
                         col as f64 - 0.5 + f64::from(rng.uniform(0)),
                         (top + r) as f64 - 0.5 + f64::from(rng.uniform(1)),
@@ -103,8 +102,7 @@ impl Frame<'_> {
                     let (origin, dir, i) = (origins[r][c], dirs[r][c], r * width + left + c);
                     let first = hits[r][c].map(|h| world.surface(&h, origin, dir));
                     let (radiance, guide) =
-                        self.scene
-                            .path(origin, dir, first, traces[i], rng(r, left + c));
+                        self.scene.path(origin, dir, first, traces[i], rngs[r][c]);
                     sums[r][c] += radiance;
                     if s == 0 && settings.denoise {
                         guides[i] = guide;

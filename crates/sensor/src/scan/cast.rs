@@ -15,6 +15,7 @@ use super::measure::measure;
 use super::mirror::{Mirrored, cast_mirrors};
 use super::region::{Region, Window, row_columns};
 use crate::bvh::lanes;
+use crate::camera::CentreRays;
 use crate::epipolar::{Epipolar, Ray, RowCut};
 use crate::noise::{Correlated, PixelRng, stream};
 use crate::spec::{CalibrationError, Frustum, SensorSpec};
@@ -30,9 +31,8 @@ pub(super) struct Capture<'a> {
     pub(super) to_camera: Mat3A,
     /// Whether the camera has no distortion.
     pub(super) pinhole: bool,
-    /// The rays through the pixels' centres of a camera with distortion
-    /// ([`Intrinsics::centre_rays`](crate::Intrinsics::centre_rays)).
-    centres: Option<std::sync::Arc<[Vec3]>>,
+    /// The rays through the pixels' centres.
+    centres: CentreRays,
     pub(super) pose: Affine3A,
     /// The camera's centre, world frame.
     pub(super) origin: Vec3,
@@ -281,11 +281,7 @@ impl<'a> Capture<'a> {
                 if c >= width || r >= rows {
                     continue;
                 }
-                let row = BLOCK * band + r;
-                let centre = match &self.centres {
-                    Some(rays) => rays[row * width + c],
-                    None => k.ray(c as f64, row as f64),
-                };
+                let centre = self.centres.ray(c, BLOCK * band + r);
                 let dir = self.pose.transform_vector3(centre);
                 if self.casts(dir) {
                     at[g][lane] = Some((c, r));
