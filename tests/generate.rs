@@ -209,6 +209,36 @@ fn same_bytes_for_any_jobs_and_for_the_union_of_shards() {
 }
 
 #[test]
+fn images_writes_the_kinds_it_names_and_the_colour_image_once_encoded() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ds");
+    let a = small(
+        "1",
+        &[
+            "--set",
+            "output.images=[\"rgb\", \"depth\"]",
+            "--set",
+            "output.yolo=detect",
+        ],
+    );
+    ok(&generate(&out, &args(&a)));
+    let names: Vec<String> = std::fs::read_dir(out.join("train"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    let stem = names.iter().find_map(|n| n.strip_suffix(".json")).unwrap();
+    let mut images: Vec<&str> = names
+        .iter()
+        .filter_map(|n| n.strip_prefix(stem)?.strip_prefix('_'))
+        .collect();
+    images.sort();
+    assert_eq!(images, ["depth.npy", "depth.png", "rgb.png"]);
+    let rgb = std::fs::read(out.join(format!("train/{stem}_rgb.png"))).unwrap();
+    let yolo = std::fs::read(out.join(format!("yolo/images/train/{stem}.png"))).unwrap();
+    assert!(rgb.starts_with(b"\x89PNG") && rgb == yolo);
+}
+
+#[test]
 fn killed_run_resumes_to_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
     let a = small("16", &["--jobs", "1"]);
@@ -317,7 +347,20 @@ fn bad_configurations_are_refused_and_write_nothing() {
         (vec!["--set", "output.formats=[\"las\"]"], "las"),
         (
             vec!["--set", "output.coco=\"rle\""],
-            "output.coco = \"rle\" is not allowed: expected \"off\" unless output.images = true",
+            "output.coco = \"rle\" is not allowed: expected \"off\" unless output.images writes rgb",
+        ),
+        (
+            vec![
+                "--set",
+                "output.images=[\"labels\"]",
+                "--set",
+                "output.coco=rle",
+            ],
+            "expected \"off\" unless output.images writes rgb",
+        ),
+        (
+            vec!["--set", "output.images=[\"rgb\", \"colour\"]"],
+            "output.images: true, false or a list of image kinds (depth, depth_clean, normals",
         ),
         (
             vec!["--set", "output.images=true", "--set", "output.coco=masks"],
@@ -325,7 +368,7 @@ fn bad_configurations_are_refused_and_write_nothing() {
         ),
         (
             vec!["--set", "output.yolo=detect"],
-            "output.yolo = \"detect\" is not allowed: expected \"off\" unless output.images = true",
+            "output.yolo = \"detect\" is not allowed: expected \"off\" unless output.images writes images",
         ),
         (vec!["--set", "nonsense"], "KEY=VALUE"),
         (vec!["--shard", "4/4"], "--shard"),

@@ -342,7 +342,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         .collect();
     let out = &config.output;
     // a rendered colour image covers the frame
-    let whole = out.scene_cloud || out.images || config.render.enabled;
+    let whole = out.scene_cloud || out.images.any() || config.render.enabled;
     let lighting = config.render.enabled.then(|| {
         let centre = cell.motor_centre.with_z(0.0);
         config.lighting.draw(centre, &mut Seed::Lighting.rng(seed))
@@ -384,7 +384,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
             let scene_cloud = out
                 .scene_cloud
                 .then(|| s.cloud(out.clean, out.frame, out.units));
-            let scan = if out.images {
+            let scan = if out.images.any() {
                 Some(s)
             } else {
                 EARLIER.set(s);

@@ -2,7 +2,7 @@
 
 use motorgen::Scheme;
 
-use super::{Config, MAX_VIEWS, Rig, sweep};
+use super::{Config, ImageKind, MAX_VIEWS, Rig, sweep};
 use crate::coco::CocoMasks;
 use crate::error::{Error, Result};
 use crate::yolo::Yolo;
@@ -159,32 +159,32 @@ impl Config {
                 "shares that add up to 1",
             ));
         }
-        if self.output.formats.is_empty() && !self.output.images {
+        if self.output.formats.is_empty() && !self.output.images.any() {
             return Err(Error::invalid(
                 "output.formats",
                 "[]",
-                "at least one of ply, pcd, pcd-ascii, npy, npz (or images = true)",
+                "at least one of ply, pcd, pcd-ascii, npy, npz (or output.images)",
             ));
         }
-        if self.output.coco != CocoMasks::Off && !self.output.images {
+        if self.output.coco != CocoMasks::Off && !self.output.images.writes(ImageKind::Rgb) {
             return Err(Error::invalid(
                 "output.coco",
                 format!("\"{}\"", self.output.coco.name()),
-                "\"off\" unless output.images = true (COCO annotates the colour images)",
+                "\"off\" unless output.images writes rgb (COCO annotates the colour images)",
             ));
         }
-        if self.output.yolo != Yolo::Off && !self.output.images {
+        if self.output.yolo != Yolo::Off && !self.output.images.any() {
             return Err(Error::invalid(
                 "output.yolo",
                 format!("\"{}\"", self.output.yolo.name()),
-                "\"off\" unless output.images = true (YOLO labels the colour images)",
+                "\"off\" unless output.images writes images (YOLO labels the colour images)",
             ));
         }
-        if self.output.bop && !self.output.images {
+        if self.output.bop && !self.output.images.any() {
             return Err(Error::invalid(
                 "output.bop",
                 "true",
-                "false unless output.images = true (BOP annotates the colour images)",
+                "false unless output.images writes images (BOP annotates the colour images)",
             ));
         }
         if !(1..=100).contains(&self.output.jpeg_quality) {

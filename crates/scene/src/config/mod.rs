@@ -16,7 +16,7 @@ use sensor::{Noise, Sampling, SensorSpec};
 
 use serde::{Deserialize, Serialize};
 
-pub use output::{Colouring, ImageFormat, Layout, MAX_VIEWS, OutputConfig};
+pub use output::{Colouring, ImageFormat, ImageKind, Images, Layout, MAX_VIEWS, OutputConfig};
 pub use render::{LightingConfig, RenderConfig};
 pub use scenes::{ArmatureConfig, HandlingConfig, SceneKind, TransferConfig};
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};

@@ -10,8 +10,8 @@ use super::{Dataset, Row};
 use crate::augment::Split;
 use crate::bop;
 use crate::claim::plain_dir;
-use crate::config::{ImageFormat, Layout};
-use crate::error::Result;
+use crate::config::{ImageFormat, ImageKind, Layout};
+use crate::error::{Error, Result};
 use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample};
 use crate::yolo::{self, Yolo};
@@ -45,6 +45,8 @@ impl Dataset {
         }
         let mut class_counts = vec![0u64; out.scheme.classes().len()];
         for (view, files) in sample.views.iter().zip(&files) {
+            // the colour image encoded once, for its file and the YOLO folder's
+            let mut colour: Option<Vec<u8>> = None;
             for (rel, file) in files {
                 let path = self.out.join(rel);
                 match *file {
@@ -63,13 +65,26 @@ impl Dataset {
                         save(&path, &|w| (sensor::formats::IMAGES[k].1)(w, scan))
                     }
                     ViewFile::Colour(format) => {
-                        let scan = view.scan.as_ref().expect("a view with a scan");
-                        save(&path, &|w| match format {
-                            ImageFormat::Png => sensor::formats::write_rgb_png(w, scan),
-                            ImageFormat::Jpeg => {
-                                sensor::formats::write_rgb_jpeg(w, scan, out.jpeg_quality)
+                        let bytes = match &mut colour {
+                            Some(bytes) => bytes,
+                            none => {
+                                let scan = view.scan.as_ref().expect("a view with a scan");
+                                let mut bytes = Vec::new();
+                                match format {
+                                    ImageFormat::Png => {
+                                        sensor::formats::write_rgb_png(&mut bytes, scan)
+                                    }
+                                    ImageFormat::Jpeg => sensor::formats::write_rgb_jpeg(
+                                        &mut bytes,
+                                        scan,
+                                        out.jpeg_quality,
+                                    ),
+                                }
+                                .map_err(|e| Error::Output(e.to_string()))?;
+                                none.insert(bytes)
                             }
-                        })
+                        };
+                        save(&path, &|w| w.write_all(bytes))
                     }
                     ViewFile::YoloLabels(kind) => {
                         let scan = view.scan.as_ref().expect("a view with a scan");
@@ -227,7 +242,11 @@ fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> 
                 files.push((name, ViewFile::SceneCloud(f)));
             }
             if view.scan.is_some() {
-                for (k, &(name, _)) in sensor::formats::IMAGES.iter().enumerate() {
+                let images = sensor::formats::IMAGES.iter().enumerate();
+                let written = images.filter(|(_, (name, _))| {
+                    ImageKind::of_file(name).is_some_and(|kind| out.images.writes(kind))
+                });
+                for (k, &(name, _)) in written {
                     let file = if name == ImageFormat::Png.rgb_name() {
                         (
                             out.image_format.rgb_name(),

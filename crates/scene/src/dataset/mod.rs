@@ -227,7 +227,7 @@ impl Dataset {
     /// and world (16 MB), and the manifest's rows (512 bytes a sample) kept to sort them.
     pub fn memory_needed(&self, jobs: usize) -> u64 {
         let c = &self.base.config;
-        let views = if c.output.images || c.output.scene_cloud {
+        let views = if c.output.images.any() || c.output.scene_cloud {
             u64::from(c.camera.views)
         } else {
             1
