@@ -19,11 +19,7 @@ fn recipe(diffuse: bool) -> Recipe {
     let mut config = Config::default();
     config.sensor.sampling = sensor::Sampling::By4x4;
     if !diffuse {
-        let mut noise = sensor::SensorSpec::preset(&config.sensor.preset)
-            .unwrap()
-            .noise;
-        noise.interreflection.diffuse_reach = 0.0;
-        config.sensor.noise = Some(noise);
+        config.sensor.noise = Some(toml::from_str("interreflection.diffuse_reach = 0.0").unwrap());
     }
     Recipe::new(config, Vec::new()).unwrap()
 }

@@ -46,6 +46,47 @@ fn every_builtin_config_is_valid_over_the_default_and_shipped_in_configs() {
 }
 
 #[test]
+fn a_configs_noise_and_colour_keys_change_those_keys_and_keep_the_presets_others() {
+    fn table(value: &impl serde::Serialize) -> toml::Table {
+        toml::Table::try_from(value).unwrap()
+    }
+    for (name, text) in BUILTIN {
+        let mut t = default_table();
+        scene::overlay(&mut t, toml::from_str(text).unwrap());
+        let config = Config::from_table(&t).unwrap();
+        let sensor = config.sensor.resolve().unwrap();
+        // the same camera, sampled and resized alike, without the config's keys
+        let mut bare = config.sensor.clone();
+        (bare.noise, bare.colour) = (None, None);
+        let preset = bare.resolve().unwrap();
+        for (keys, ours, theirs) in [
+            (
+                &config.sensor.noise,
+                table(&sensor.noise),
+                table(&preset.noise),
+            ),
+            (
+                &config.sensor.colour,
+                table(&sensor.colour),
+                table(&preset.colour),
+            ),
+        ] {
+            let set = keys.clone().unwrap_or_default();
+            for (key, value) in &theirs {
+                if !set.contains_key(key) {
+                    assert_eq!(ours.get(key), Some(value), "{name}: {key}");
+                }
+            }
+        }
+        if name == "zivid" {
+            // the Zivid mirrors the stripes as the preset does, with the jitter it adds
+            assert!(sensor.noise.interreflection.enabled);
+            assert_eq!(sensor.noise.lateral_px, 0.3);
+        }
+    }
+}
+
+#[test]
 fn motors_lie_cover_up_or_stand_pole_pot_up_in_closed_fixtures_for_many_seeds() {
     let config = Config::default().cell;
     for seed in 0..40 {

@@ -12,7 +12,7 @@ mod words;
 
 use motorgen::{Detail, ParamSpace, PartKind};
 use rand::{Rng, RngExt};
-use sensor::{Noise, Sampling, SensorSpec};
+use sensor::{Sampling, SensorSpec};
 
 use serde::{Deserialize, Serialize};
 
@@ -373,8 +373,9 @@ pub struct SensorConfig {
     pub preset: String,
     /// A full sensor specification instead of the preset (the `scan --sensor FILE.toml` schema).
     pub spec: Option<SensorSpec>,
-    /// Noise models replacing the sensor's own (every model off unless given).
-    pub noise: Option<Noise>,
+    /// Keys of the sensor's noise models set over its own (`[noise]` of a sensor file), the
+    /// rest kept.
+    pub noise: Option<toml::Table>,
     /// Keys of the sensor's colour camera set over its own (`[colour]` of a sensor file:
     /// exposure, gain, lens, …), the rest kept.
     pub colour: Option<toml::Table>,
@@ -407,16 +408,11 @@ impl SensorConfig {
                 )
             })?,
         };
-        if let Some(noise) = self.noise {
-            spec.noise = noise;
+        if let Some(keys) = &self.noise {
+            spec.noise = overlaid(&spec.noise, keys, "sensor.noise")?;
         }
         if let Some(keys) = &self.colour {
-            let mut colour = toml::Table::try_from(spec.colour)
-                .map_err(|e| Error::Config(format!("sensor.colour: {e}")))?;
-            overlay(&mut colour, keys.clone());
-            spec.colour = colour.try_into().map_err(|e: toml::de::Error| {
-                Error::Config(format!("sensor.colour: {}", in_words(e.message())))
-            })?;
+            spec.colour = overlaid(&spec.colour, keys, "sensor.colour")?;
         }
         let mut spec = spec
             .sampled(self.sampling)
@@ -430,6 +426,21 @@ impl SensorConfig {
             .map_err(|e| Error::Config(format!("sensor: {e}")))?;
         Ok(spec)
     }
+}
+
+/// `base` with `keys` set over its own (tables merged key by key), read back; errors name
+/// `key`.
+fn overlaid<T: Serialize + serde::de::DeserializeOwned>(
+    base: &T,
+    keys: &toml::Table,
+    key: &str,
+) -> Result<T> {
+    let mut table =
+        toml::Table::try_from(base).map_err(|e| Error::Config(format!("{key}: {e}")))?;
+    overlay(&mut table, keys.clone());
+    table
+        .try_into()
+        .map_err(|e: toml::de::Error| Error::Config(format!("{key}: {}", in_words(e.message()))))
 }
 
 /// The sensor `name` names, as `scan --sensor` takes it: a preset, or a sensor TOML file (a
