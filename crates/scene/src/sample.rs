@@ -62,6 +62,8 @@ pub(crate) enum Seed {
     Render(u64),
     /// The scene's `k`-th motor besides the sample's own (k from 1).
     Extra(u64),
+    /// The camera the sample is taken with: its calibration error (`sensor.cameras`).
+    Calibration,
 }
 
 impl Seed {
@@ -77,6 +79,7 @@ impl Seed {
             Seed::Surface => 6,
             Seed::Reclamp => 7,
             Seed::Lighting => 8,
+            Seed::Calibration => 9,
             Seed::Scan(k) => 100 + k,
             Seed::Jitter(k) => 200 + k,
             Seed::Render(k) => 300 + k,
@@ -326,6 +329,13 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let noise_scale = lc.noise_scale.sample(&mut Seed::NoiseScale.rng(seed));
     let mut sensor = recipe.sensor.clone();
     sensor.noise = sensor.noise.scaled(noise_scale);
+    sensor.calibration.seed = match config.sensor.cameras {
+        0 => Seed::Calibration.of(seed),
+        n => {
+            let unit = Seed::Calibration.rng(seed).random_range(0..n);
+            sensor.calibration.seed.wrapping_add(unit)
+        }
+    };
     // a rendered colour image replaces the scan's own: the scan shades none
     let scanned = if config.render.enabled {
         let mut s = sensor.clone();

@@ -33,6 +33,7 @@ fn the_configuration_reference_lists_every_key() {
         "sensor.spec",
         "sensor.noise",
         "sensor.colour",
+        "sensor.calibration",
         "sensor.resolution",
         "sweep",
     ];
@@ -56,9 +57,13 @@ fn the_configuration_reference_lists_every_key() {
     scene::set_key(&mut table, "sweep", sweep).unwrap();
     let focus = toml::from_str("focus = 0.3").map(toml::Value::Table);
     scene::set_key(&mut table, "sensor.colour", focus.unwrap()).unwrap();
+    let seed = toml::from_str("seed = 7").map(toml::Value::Table);
+    scene::set_key(&mut table, "sensor.calibration", seed.unwrap()).unwrap();
     let config = Config::from_table(&table).unwrap();
     assert!(config.sensor.spec.is_some() && config.sensor.noise.is_some());
-    assert_eq!(config.sensor.resolve().unwrap().colour.focus, 0.3);
+    let sensor = config.sensor.resolve().unwrap();
+    assert_eq!(sensor.colour.focus, 0.3);
+    assert_eq!(sensor.calibration.seed, 7);
     // an unknown colour key is refused, named
     let typo = toml::from_str("fokus = 0.3").map(toml::Value::Table);
     scene::set_key(&mut table, "sensor.colour", typo.unwrap()).unwrap();

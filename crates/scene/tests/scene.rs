@@ -86,6 +86,56 @@ fn a_configs_noise_and_colour_keys_change_those_keys_and_keep_the_presets_others
     }
 }
 
+/// Each of `n` samples' depth scale: the mean of measured over true depth of its view's pixels,
+/// and the calibration seed of its camera, with `sensor.cameras = cameras`.
+fn depth_scales(cameras: i64, n: u64) -> Vec<(f64, u64)> {
+    let mut t = default_table();
+    for (key, value) in [
+        ("sensor.sampling", "by4x4".into()),
+        ("sensor.cameras", cameras.into()),
+        ("output.images", true.into()),
+    ] {
+        scene::set_key(&mut t, key, value).unwrap();
+    }
+    let recipe = Recipe::new(Config::from_table(&t).unwrap(), Vec::new()).unwrap();
+    (0..n)
+        .map(|index| {
+            let sample = scene::make(&recipe, index).unwrap();
+            let scan = sample.views[0].scan.as_ref().unwrap();
+            let ratios: Vec<f64> = scan
+                .pixels
+                .iter()
+                .filter(|p| p.is_valid())
+                .map(|p| f64::from(p.point.z / p.clean.z))
+                .collect();
+            let mean = ratios.iter().sum::<f64>() / ratios.len() as f64;
+            (mean, sample.sensor.calibration.seed)
+        })
+        .collect()
+}
+
+fn spread(values: &[f64]) -> f64 {
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64).sqrt()
+}
+
+#[test]
+fn each_sample_draws_its_camera_or_one_of_the_configured_cameras() {
+    // a camera per sample: the depth scale varies by the calibration's σ (5e-4 for the M60)
+    let own = depth_scales(0, 8);
+    let scales: Vec<f64> = own.iter().map(|s| s.0).collect();
+    assert!(spread(&scales) > 2e-4, "{scales:?}");
+    // one camera: every sample's scale the same, up to the noise and the warp over its pixels
+    let one = depth_scales(1, 8);
+    let scales: Vec<f64> = one.iter().map(|s| s.0).collect();
+    assert!(spread(&scales) < 6e-5, "{scales:?}");
+    assert!(one.iter().all(|s| s.1 == 0), "the preset's own camera");
+    // three cameras: seeds 0, 1, 2
+    let three = depth_scales(3, 12);
+    let seeds: std::collections::BTreeSet<u64> = three.iter().map(|s| s.1).collect();
+    assert_eq!(seeds.into_iter().collect::<Vec<_>>(), [0, 1, 2]);
+}
+
 #[test]
 fn motors_lie_cover_up_or_stand_pole_pot_up_in_closed_fixtures_for_many_seeds() {
     let config = Config::default().cell;

@@ -379,6 +379,13 @@ pub struct SensorConfig {
     /// Keys of the sensor's colour camera set over its own (`[colour]` of a sensor file:
     /// exposure, gain, lens, …), the rest kept.
     pub colour: Option<toml::Table>,
+    /// Keys of the camera's calibration error set over its own (`[calibration]` of a sensor
+    /// file: `seed`, `scale`, `warp`), the rest kept.
+    pub calibration: Option<toml::Table>,
+    /// How many cameras (units, each its own calibration error) the samples are taken with:
+    /// 0, a new one every sample; n, one of n drawn per sample, unit k's seed the
+    /// calibration's seed + k (n = 1: the sensor's own camera).
+    pub cameras: u64,
     /// Which pixels make a point, by Zivid's names: `all`, `by2x2`, `by4x4`, `blueSubsample2x2`
     /// or `redSubsample2x2`.
     pub sampling: Sampling,
@@ -413,6 +420,9 @@ impl SensorConfig {
         }
         if let Some(keys) = &self.colour {
             spec.colour = overlaid(&spec.colour, keys, "sensor.colour")?;
+        }
+        if let Some(keys) = &self.calibration {
+            spec.calibration = overlaid(&spec.calibration, keys, "sensor.calibration")?;
         }
         let mut spec = spec
             .sampled(self.sampling)
