@@ -3,7 +3,7 @@
 of 0.01 with at most 1024 samples, Intel's OpenImageDenoise, 3 bounces; Blender's Standard view
 transform at the scene's exposure. Then the SSIM between it and this renderer's frames.
 
-Usage, in a venv with bpy 5.0.1 and numpy:
+Usage, in a venv with bpy 5.0.1, numpy and Pillow:
     python render_cycles.py OUT_DIR [THREADS]
 
 Writes OUT_DIR/cycles.png and prints the render's time and the SSIMs (luminance, 7x7 windows,
@@ -107,8 +107,8 @@ def main():
     t = time.time()
     reference.render(path)
     seconds = time.time() - t
+    print('cycles: %.1f s' % seconds, flush=True)
     cycles = grey(path)
-    print('cycles: %.1f s' % seconds)
     for name in ('ours.png', 'ours-converged.png'):
         print('SSIM %s vs cycles: %.3f' % (name, ssim(grey(os.path.join(out, name)), cycles)))
 

@@ -2,6 +2,7 @@
 //! `yolo/images/{train,val}/` and its labels under `yolo/labels/{train,val}/`, one line per motor
 //! part in sight, and `yolo/data.yaml` naming the classes.
 
+use std::borrow::Cow;
 use std::io::Write;
 
 use motorgen::Scheme;
@@ -46,22 +47,48 @@ pub fn split_folder(split: Split) -> &'static str {
     }
 }
 
-/// Writes the labels of `scan`'s colour image as `kind` says: one line per part in sight,
-/// the class 0-based (the scheme's id less one: the background has none), coordinates to six
-/// decimals.
+/// The annotations YOLO's `kind` of labels needs of `scan`'s colour image: those of its COCO
+/// view `coco` where it has them (its boxes for `Detect`, its polygons for `Segment` when COCO
+/// writes polygons), otherwise the image annotated with polygons.
+pub fn annotations<'a>(
+    scan: &Scan,
+    coco: Option<&'a coco::CocoView>,
+    kind: Yolo,
+) -> Cow<'a, [coco::Annotation]> {
+    let polygons = |v: &coco::CocoView| {
+        v.annotations
+            .iter()
+            .all(|a| matches!(a.segmentation, coco::Segmentation::Polygons(_)))
+    };
+    match coco {
+        Some(view) if kind == Yolo::Detect || polygons(view) => Cow::Borrowed(&view.annotations),
+        _ => {
+            let image = coco::Image {
+                id: 0,
+                file_name: String::new(),
+                width: scan.width as usize,
+                height: scan.height as usize,
+            };
+            Cow::Owned(coco::annotate(scan, image, CocoMasks::Polygons, &|_| None).annotations)
+        }
+    }
+}
+
+/// Writes the labels of a colour image of `width`×`height` pixels annotated with `annotations`
+/// ([`annotations`]) as `kind` says: one line per part in sight, the class 0-based (the
+/// scheme's id less one: the background has none), coordinates to six decimals.
 ///
 /// # Errors
 ///
 /// Any error of writing to `w`.
-pub fn write_labels(w: &mut dyn Write, scan: &Scan, kind: Yolo) -> std::io::Result<()> {
-    let (width, height) = (f64::from(scan.width), f64::from(scan.height));
-    let image = coco::Image {
-        id: 0,
-        file_name: String::new(),
-        width: scan.width as usize,
-        height: scan.height as usize,
-    };
-    for a in coco::annotate(scan, image, CocoMasks::Polygons, &|_| None).annotations {
+pub fn write_labels(
+    w: &mut dyn Write,
+    (width, height): (u32, u32),
+    annotations: &[coco::Annotation],
+    kind: Yolo,
+) -> std::io::Result<()> {
+    let (width, height) = (f64::from(width), f64::from(height));
+    for a in annotations {
         write!(w, "{}", a.category_id - 1)?;
         match kind {
             Yolo::Segment => {

@@ -43,8 +43,13 @@ impl Dataset {
         for folder in folders {
             plain_dir(&self.out.join(folder))?;
         }
+        let names: Vec<Vec<String>> = files
+            .iter()
+            .map(|files| files.iter().map(|(rel, _)| rel.clone()).collect())
+            .collect();
+        let doc = sample.json(recipe, &names);
         let mut class_counts = vec![0u64; out.scheme.classes().len()];
-        for (view, files) in sample.views.iter().zip(&files) {
+        for ((view, files), json) in sample.views.iter().zip(&files).zip(&doc.views) {
             // the colour image encoded once, for its file and the YOLO folder's
             let mut colour: Option<Vec<u8>> = None;
             for (rel, file) in files {
@@ -88,7 +93,9 @@ impl Dataset {
                     }
                     ViewFile::YoloLabels(kind) => {
                         let scan = view.scan.as_ref().expect("a view with a scan");
-                        save(&path, &|w| yolo::write_labels(w, scan, kind))
+                        let annotations = yolo::annotations(scan, json.coco.as_ref(), kind);
+                        let size = (scan.width, scan.height);
+                        save(&path, &|w| yolo::write_labels(w, size, &annotations, kind))
                     }
                 }?;
             }
@@ -101,11 +108,6 @@ impl Dataset {
         for (rel, body) in &bop {
             save(&self.out.join(rel), body)?;
         }
-        let names: Vec<Vec<String>> = files
-            .iter()
-            .map(|files| files.iter().map(|(rel, _)| rel.clone()).collect())
-            .collect();
-        let doc = sample.json(recipe, &names);
         save(&self.out.join(&json_rel), &|w| {
             w.write_all(doc.to_text().as_bytes())
         })?;
