@@ -500,6 +500,14 @@ pub fn matrix(t: &Affine3A) -> [[f32; 4]; 4] {
 }
 
 impl Sample {
+    /// Hands the buffer of this sample's last scan to the next scan made on this thread, its
+    /// pages already mapped.
+    pub(crate) fn recycle(self) {
+        if let Some(scan) = self.views.into_iter().rev().find_map(|v| v.scan) {
+            EARLIER.set(scan);
+        }
+    }
+
     /// The cell `view` was taken of.
     pub fn cell_of(&self, view: &View) -> &Cell {
         match (&self.reclamped, view.reclamped) {

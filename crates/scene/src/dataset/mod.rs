@@ -451,6 +451,7 @@ impl Dataset {
                     }
                 };
                 let row = self.write(&recipe, &sample).map_err(Some)?;
+                sample.recycle();
                 let line = serde_json::to_string(&row).expect("rows serialise") + "\n";
                 manifest
                     .lock()
