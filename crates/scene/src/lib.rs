@@ -48,6 +48,7 @@ pub mod record;
 mod rendered;
 pub mod rig;
 pub mod sample;
+mod seed;
 pub mod silhouette;
 pub mod station;
 pub mod yolo;

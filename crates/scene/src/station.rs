@@ -12,7 +12,8 @@ use crate::config::{CameraConfig, Clamping};
 use crate::coverage::{Rule, Surface, coverage, faces, observe};
 use crate::error::{Error, Result};
 use crate::rig::camera_poses;
-use crate::sample::{Recipe, Seed, region_around};
+use crate::sample::{Recipe, region_around};
+use crate::seed::Seed;
 
 /// How far beyond the motor's box measured points are kept, m.
 const MARGIN: f32 = 0.01;
