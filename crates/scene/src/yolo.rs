@@ -48,20 +48,17 @@ pub fn split_folder(split: Split) -> &'static str {
 }
 
 /// The annotations YOLO's `kind` of labels needs of `scan`'s colour image: those of its COCO
-/// view `coco` where it has them (its boxes for `Detect`, its polygons for `Segment` when COCO
-/// writes polygons), otherwise the image annotated with polygons.
+/// view where COCO annotated it (with masks as the `CocoMasks` given) and they serve (their
+/// boxes for `Detect`, polygons for `Segment`), otherwise the image annotated with polygons.
 pub fn annotations<'a>(
     scan: &Scan,
-    coco: Option<&'a coco::CocoView>,
+    coco: Option<(&'a coco::CocoView, CocoMasks)>,
     kind: Yolo,
 ) -> Cow<'a, [coco::Annotation]> {
-    let polygons = |v: &coco::CocoView| {
-        v.annotations
-            .iter()
-            .all(|a| matches!(a.segmentation, coco::Segmentation::Polygons(_)))
-    };
     match coco {
-        Some(view) if kind == Yolo::Detect || polygons(view) => Cow::Borrowed(&view.annotations),
+        Some((view, masks)) if kind == Yolo::Detect || masks == CocoMasks::Polygons => {
+            Cow::Borrowed(&view.annotations)
+        }
         _ => {
             let image = coco::Image {
                 id: 0,

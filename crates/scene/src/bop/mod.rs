@@ -14,13 +14,11 @@ use std::io::{Result, Write};
 
 use glam::{Affine3A, Mat3};
 use sensor::Scan;
-use sensor::formats::{
-    DEPTH_PNG_METRES_PER_UNIT, write_depth_png, write_mask_png, write_rgb_jpeg, write_rgb_png,
-};
+use sensor::formats::{DEPTH_PNG_METRES_PER_UNIT, write_depth_png, write_mask_png};
 use serde_json::{Map, Value, json};
 
 use crate::augment::Split;
-use crate::config::{ImageFormat, OutputConfig};
+use crate::config::OutputConfig;
 use crate::sample::Sample;
 use crate::silhouette::Silhouette;
 use model::{MM, Model};
@@ -184,16 +182,9 @@ pub fn scene_files<'a>(sample: &'a Sample, output: &'a OutputConfig) -> Vec<(Str
         infos.insert(i.to_string(), Value::Array(info));
         let format = output.image_format;
         let quality = output.jpeg_quality;
-        let ext = match format {
-            ImageFormat::Png => "png",
-            ImageFormat::Jpeg => "jpg",
-        };
         files.push((
-            format!("{folder}/rgb/{i:06}.{ext}"),
-            Box::new(move |w| match format {
-                ImageFormat::Png => write_rgb_png(w, scan),
-                ImageFormat::Jpeg => write_rgb_jpeg(w, scan, quality),
-            }),
+            format!("{folder}/rgb/{i:06}.{}", format.extension()),
+            Box::new(move |w| format.write(w, scan, quality)),
         ));
         files.push((
             format!("{folder}/depth/{i:06}.png"),

@@ -174,6 +174,31 @@ pub enum ImageFormat {
 }
 
 impl ImageFormat {
+    /// Its files' extension.
+    pub fn extension(self) -> &'static str {
+        match self {
+            ImageFormat::Png => "png",
+            ImageFormat::Jpeg => "jpg",
+        }
+    }
+
+    /// Writes `scan`'s colour image in this format (JPEG at `quality`).
+    ///
+    /// # Errors
+    ///
+    /// Any error of writing to `w`.
+    pub fn write(
+        self,
+        w: &mut dyn std::io::Write,
+        scan: &sensor::Scan,
+        quality: u8,
+    ) -> std::io::Result<()> {
+        match self {
+            ImageFormat::Png => sensor::formats::write_rgb_png(w, scan),
+            ImageFormat::Jpeg => sensor::formats::write_rgb_jpeg(w, scan, quality),
+        }
+    }
+
     /// The colour image's file-name ending: `rgb.png` or `rgb.jpg`.
     pub fn rgb_name(self) -> &'static str {
         match self {

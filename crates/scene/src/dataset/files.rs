@@ -75,17 +75,9 @@ impl Dataset {
                             none => {
                                 let scan = view.scan.as_ref().expect("a view with a scan");
                                 let mut bytes = Vec::new();
-                                match format {
-                                    ImageFormat::Png => {
-                                        sensor::formats::write_rgb_png(&mut bytes, scan)
-                                    }
-                                    ImageFormat::Jpeg => sensor::formats::write_rgb_jpeg(
-                                        &mut bytes,
-                                        scan,
-                                        out.jpeg_quality,
-                                    ),
-                                }
-                                .map_err(|e| Error::Output(e.to_string()))?;
+                                format
+                                    .write(&mut bytes, scan, out.jpeg_quality)
+                                    .map_err(|e| Error::Output(e.to_string()))?;
                                 none.insert(bytes)
                             }
                         };
@@ -93,7 +85,8 @@ impl Dataset {
                     }
                     ViewFile::YoloLabels(kind) => {
                         let scan = view.scan.as_ref().expect("a view with a scan");
-                        let annotations = yolo::annotations(scan, json.coco.as_ref(), kind);
+                        let coco = json.coco.as_ref().map(|view| (view, out.coco));
+                        let annotations = yolo::annotations(scan, coco, kind);
                         let size = (scan.width, scan.height);
                         save(&path, &|w| yolo::write_labels(w, size, &annotations, kind))
                     }
@@ -269,10 +262,7 @@ fn view_files(recipe: &Recipe, sample: &Sample) -> Vec<Vec<(String, ViewFile)>> 
                 let at = |kind: &str, ext: &str| {
                     format!("{}/{kind}/{split}/{view_stem}.{ext}", yolo::FOLDER)
                 };
-                let ext = match out.image_format {
-                    ImageFormat::Png => "png",
-                    ImageFormat::Jpeg => "jpg",
-                };
+                let ext = out.image_format.extension();
                 files.push((at("images", ext), ViewFile::Colour(out.image_format)));
                 files.push((at("labels", "txt"), ViewFile::YoloLabels(out.yolo)));
             }
