@@ -23,20 +23,17 @@ pub(super) fn filter(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
         remove_outliers(scan, window, outlier.threshold * 1e-3);
     }
     let holes = filters.hole.repair;
+    let k = &sensor.intrinsics;
     if holes.enabled {
-        let shorter = scan.width.min(scan.height) as f32;
-        let widest = (holes.hole_size * shorter) as usize;
+        let widest = holes.widest_px(k.fx);
         repair_holes(scan, window, sensor, widest, holes.strictness as usize);
     }
     let cluster = filters.cluster.removal;
     if cluster.enabled {
-        let k = &sensor.intrinsics;
+        // a neighbour's spacing and a pixel's footprint per metre of depth
+        let spacing = cluster.max_neighbor_distance / k.fx as f32;
         let footprint = 1.0 / (k.fx * k.fy) as f32;
-        let (distance, area) = (
-            cluster.max_neighbor_distance * 1e-3,
-            cluster.min_area * 1e-6,
-        );
-        remove_clusters(scan, window, distance, area, footprint);
+        remove_clusters(scan, window, spacing, cluster.min_area * 1e-6, footprint);
     }
     let gaussian = filters.smoothing.gaussian;
     if gaussian.enabled && gaussian.sigma > 0.0 {
@@ -271,9 +268,9 @@ fn nearest_held(len: usize, held: impl Fn(usize) -> bool) -> [Vec<Option<usize>>
 }
 
 /// Removes the clusters of points of less than `min_area` m², a cluster being the points joined
-/// through 8-neighbours within `distance` m of each other, each point of `footprint` × depth²
-/// m² (its pixel at its depth).
-fn remove_clusters(scan: &mut Scan, window: &Window, distance: f32, min_area: f32, footprint: f32) {
+/// through 8-neighbours within `spacing` × their mean depth of each other, each point of
+/// `footprint` × depth² m² (its pixel at its depth).
+fn remove_clusters(scan: &mut Scan, window: &Window, spacing: f32, min_area: f32, footprint: f32) {
     let (w, h) = (window.cols.len(), window.rows.len());
     let points = points(scan, window);
     // union-find over the window's pixels: each joined to its neighbours right and below
@@ -285,7 +282,6 @@ fn remove_clusters(scan: &mut Scan, window: &Window, distance: f32, min_area: f3
         }
         i
     }
-    let limit = distance * distance;
     for r in 0..h {
         for c in 0..w {
             let p = points[r * w + c];
@@ -303,7 +299,8 @@ fn remove_clusters(scan: &mut Scan, window: &Window, distance: f32, min_area: f3
                 let Some(rr) = rr.filter(|_| cc < w) else {
                     continue;
                 };
-                if points[rr * w + cc].distance_squared(p) <= limit {
+                let q = points[rr * w + cc];
+                if q.distance_squared(p) <= (spacing * 0.5 * (p.z + q.z)).powi(2) {
                     let (a, b) = (
                         root(&mut parent, (r * w + c) as u32),
                         root(&mut parent, (rr * w + cc) as u32),

@@ -459,7 +459,7 @@ impl SensorSpec {
                 "processing.filters.cluster.removal.max_neighbor_distance",
                 filters.cluster.removal.max_neighbor_distance,
                 0.0..=f32::MAX,
-                "a distance >= 0, mm",
+                "a distance >= 0, in spacings of neighbouring pixels' points",
             ),
             (
                 "processing.filters.cluster.removal.min_area",
@@ -483,7 +483,7 @@ impl SensorSpec {
                 "processing.filters.hole.repair.hole_size",
                 filters.hole.repair.hole_size,
                 0.0..=1.0,
-                "a share of the image's shorter side from 0 to 1",
+                "0 to 1, relative to the hole's distance",
             ),
             (
                 "processing.filters.hole.repair.strictness",

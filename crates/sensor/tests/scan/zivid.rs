@@ -632,9 +632,9 @@ fn hole_repair_fills_holes_as_wide_as_it_is_told_on_their_surface() {
         };
         scan(&world, &spec, &Affine3A::IDENTITY, 1)
     };
-    // 0.05 of 400 pixels reaches across it: every pixel filled, on the plane, with its own
-    // surface's labels; nothing else changes
-    let wide = repaired(0.05, 4);
+    // 0.2 reaches 16 pixels (12 mm at 0.6 m), across it: every pixel filled, on the plane,
+    // with its own surface's labels; nothing else changes
+    let wide = repaired(0.2, 4);
     for (i, (a, b)) in open.pixels.iter().zip(&wide.pixels).enumerate() {
         if hole.contains(&i) {
             // on the plane: inverse depth is linear across a plane's image
@@ -650,7 +650,7 @@ fn hole_repair_fills_holes_as_wide_as_it_is_told_on_their_surface() {
             assert_eq!(bits_of(a), bits_of(b), "pixel {i} changed");
         }
     }
-    // 0.01 (4 pixels) reaches no hole pixel's far side
+    // 0.01 (under a pixel) reaches no hole pixel's far side
     assert_eq!(bits(&repaired(0.01, 1)), bits(&open));
 }
 
@@ -702,10 +702,84 @@ fn the_cluster_filter_removes_small_blobs_and_nothing_else() {
         .filters
         .cluster
         .removal
-        .max_neighbor_distance = 60.0;
+        .max_neighbor_distance = 100.0;
     spec.processing.filters.cluster.removal.min_area = 150.0;
     let joined = scan(&world, &spec, &Affine3A::IDENTITY, 1);
     assert_eq!(points_of(&joined, 2), points_of(&open, 2));
+}
+
+/// A plane facing the camera at `z` with, flush on it, a dark square `side` m wide at the
+/// image's centre (class 2: the noise filter removes it), scanned with hole repair at
+/// `hole_size`: the share of the square's pixels filled.
+fn filled_share(z: f32, side: f32, hole_size: f32) -> f64 {
+    let mut dark = quad(
+        Vec3::new(0.0, 0.0, z - 1e-5),
+        Vec3::X * side / 2.0,
+        Vec3::Y * side / 2.0,
+        2,
+        2,
+    );
+    dark.material.reflectivity = 0.005;
+    let world = World::new(&[dark, facing_plane(z)]);
+    let mut spec = exact_and_noise_filtered();
+    spec.processing.filters.hole.repair = HoleRepair {
+        enabled: true,
+        hole_size,
+        strictness: 2,
+    };
+    let s = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    let hole: Vec<&Pixel> = s.pixels.iter().filter(|p| p.class == 2).collect();
+    assert!(hole.len() > 50, "{} pixels", hole.len());
+    hole.iter().filter(|p| p.is_valid()).count() as f64 / hole.len() as f64
+}
+
+#[test]
+fn hole_repair_fills_holes_up_to_its_size_times_a_tenth_of_their_distance() {
+    // Zivid's hole size is relative and scales with the distance: at 0.2 the widest hole is
+    // 12 mm at 0.6 m and 24 mm at 1.2 m
+    for z in [0.6f32, 1.2] {
+        let widest = 0.2 * HoleRepair::SCALE * z;
+        assert_eq!(filled_share(z, 0.8 * widest, 0.2), 1.0, "at {z} m");
+        let wide = filled_share(z, 2.0 * widest, 0.2);
+        assert!(
+            wide < 0.8,
+            "at {z} m: {wide} of a hole twice the widest filled"
+        );
+    }
+    // a projector's shadow 55 mm wide at 0.6 m stays open
+    assert_eq!(filled_share(0.6, 0.055, 0.2), 0.0);
+}
+
+/// Whether the cluster filter (normalised distance 10, 150 mm²) keeps a 1 cm square floating
+/// `gap` m before a plane facing the camera at `z`.
+fn floating_square_kept(z: f32, gap: f32) -> bool {
+    let square = quad(
+        Vec3::new(0.0, 0.0, z - gap),
+        Vec3::X * 5e-3,
+        Vec3::Y * 5e-3,
+        2,
+        2,
+    );
+    let world = World::new(&[square, facing_plane(z)]);
+    let mut spec = tof_camera(Noise::default());
+    spec.processing.filters.cluster.removal = ClusterRemoval {
+        enabled: true,
+        max_neighbor_distance: 10.0,
+        min_area: 150.0,
+    };
+    let s = scan(&world, &spec, &Affine3A::IDENTITY, 1);
+    points_of(&s, 2) > 0
+}
+
+#[test]
+fn the_cluster_filters_neighbour_distance_scales_with_depth() {
+    // 10 spacings of neighbouring points: 7.5 mm at 0.6 m (f 800 px), 15 mm at 1.2 m; a
+    // square joined to the plane behind it belongs to a large cluster and stays
+    assert!(floating_square_kept(0.6, 0.005));
+    assert!(floating_square_kept(1.2, 0.005));
+    assert!(!floating_square_kept(0.6, 0.011));
+    assert!(floating_square_kept(1.2, 0.011));
+    assert!(!floating_square_kept(1.2, 0.02));
 }
 
 #[test]
