@@ -72,14 +72,16 @@ fn main() {
 /// Has the allocator serve every block from memory it keeps, rather than mapping blocks above
 /// 32 MiB afresh and unmapping them when freed: a dataset frees and takes again frame-sized
 /// buffers (a megapixel frame's rendering guides are ~60 MB) every sample, and each fresh
-/// mapping is faulted in page by page (a quarter of a rendered sample's system time per
-/// sample otherwise).
+/// mapping is faulted in page by page (three quarters of a rendered dataset's system time).
+/// A glibc that refuses so high a threshold keeps its own settings: the trim threshold alone
+/// would stop it raising the mapping threshold as it goes.
 fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: mallopt only sets glibc's allocator parameters; called before any thread starts.
     unsafe {
-        libc::mallopt(libc::M_MMAP_THRESHOLD, i32::MAX);
-        libc::mallopt(libc::M_TRIM_THRESHOLD, i32::MAX);
+        if libc::mallopt(libc::M_MMAP_THRESHOLD, i32::MAX) == 1 {
+            libc::mallopt(libc::M_TRIM_THRESHOLD, i32::MAX);
+        }
     }
 }
 
