@@ -33,7 +33,7 @@ pub const GREY_PLASTIC: Material = mat(0.6, 0.0, 0.2, [0.6; 3], 0.0, 0.6);
 /// Bright zinc plating of screws: a narrow, strong highlight.
 pub const ZINC_PLATED_STEEL: Material = mat(0.7, 0.8, 0.1, [0.7, 0.7, 0.72], 1.0, 0.2);
 /// Drawn or polished stainless steel (pole pots).
-pub const STAINLESS_STEEL: Material = mat(0.45, 0.6, 0.15, [0.45, 0.45, 0.47], 1.0, 0.25);
+pub const STAINLESS_STEEL: Material = mat(0.45, 0.6, 0.1, [0.45, 0.45, 0.47], 1.0, 0.25);
 /// Bare, brushed aluminium.
 pub const ALUMINIUM: Material = mat(0.6, 0.4, 0.15, [0.6, 0.6, 0.62], 1.0, 0.3);
 /// Blue anodised aluminium (fixture jaws).

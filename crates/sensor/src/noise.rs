@@ -8,6 +8,8 @@ use rand::TryRng;
 use rand_distr::{Distribution, StandardNormal};
 use serde::{Deserialize, Serialize};
 
+use crate::world::Material;
+
 /// Random draws keyed by (seed, pixel, stream): SplitMix64 finalisers over the key, a
 /// counter-based generator in the sense of Salmon et al. (SC'11), without state to share.
 #[derive(Clone, Copy, Debug)]
@@ -348,12 +350,14 @@ impl Dropout {
 }
 
 /// Specular highlights and saturation. A material's mirror-like share `specular` reflects the
-/// light as a lobe about the mirror direction, of peak specular / (2·lobe²) × the light (against
-/// a white diffuse surface's 1: the lobe's energy, spread over its solid angle), falling off as
+/// light as a lobe about the mirror direction ([`Lobe`]), falling off as
 /// exp(−(1 − cos θ) / lobe²) with θ between the normal and the half vector of the light's and the
-/// camera's directions (about exp(−θ² / (2·lobe²))). It adds to the pixel's signal. A pixel
-/// whose signal exceeds `saturation` saturates: its stripes are clipped and it has no point.
-/// The saturated blob grows as the lobe widens or the exposure rises (a lower `saturation`).
+/// camera's directions (about exp(−θ² / (2·lobe²))), of the energy the material states: lit
+/// straight on, the lobe returns `specular` of the light over the hemisphere, as a white diffuse
+/// surface returns all of it (less at oblique light, none above it). It adds to the pixel's
+/// signal. A pixel whose signal exceeds `saturation` saturates: its stripes are clipped and it
+/// has no point. The saturated blob grows as the lobe widens or the exposure rises (a lower
+/// `saturation`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Specular {
@@ -363,21 +367,66 @@ pub struct Specular {
 }
 
 impl Specular {
-    /// The highlight's signal of a material of `specular` share whose lobe has sharpness
-    /// 1 / lobe² `sharpness`, at cosine `cos_half` between the normal and the half vector,
-    /// under light `light` (see [`Dropout`] for the signal).
+    /// The highlight's signal of a surface of specular lobe `lobe`, at cosine `cos_half`
+    /// between the normal and the half vector, under light `light` (see [`Dropout`] for the
+    /// signal).
     #[inline]
-    pub fn highlight(&self, specular: f32, sharpness: f32, cos_half: f32, light: f32) -> f32 {
-        if self.saturation <= 0.0 || specular <= 0.0 {
+    pub fn highlight(&self, lobe: &Lobe, cos_half: f32, light: f32) -> f32 {
+        if self.saturation <= 0.0 {
             return 0.0;
         }
-        specular * 0.5 * sharpness * (-(1.0 - cos_half) * sharpness).exp() * light
+        lobe.peak * (-(1.0 - cos_half) * lobe.sharpness).exp() * light
     }
 
     /// Whether a pixel of `signal` saturates.
     #[inline]
     pub fn saturates(&self, signal: f32) -> bool {
         self.saturation > 0.0 && signal > self.saturation
+    }
+}
+
+/// A material's specular lobe as [`Specular::highlight`] reads it, worked out once per
+/// material: its sharpness 1 / lobe² and its peak, the signal at the mirror direction per unit
+/// of light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lobe {
+    /// 1 / lobe², lobe in radians.
+    pub sharpness: f32,
+    /// The signal at the mirror direction per unit of light: the material's specular share
+    /// over the lobe's hemispherical integral lit straight on.
+    pub peak: f32,
+}
+
+impl Lobe {
+    /// The lobe of `material`: its specular share and lobe width.
+    ///
+    /// Lit straight on, the half vector of an outgoing direction at cosine u to the normal has
+    /// cosine c = √((1 + u) / 2), and the lobe's share of the light is
+    /// 2·∫₀¹ e^(−s(1 − c))·u du = 8·∫ e^(−s(1 − c))·(2c³ − c) dc over c from 1/√2 to 1 (a
+    /// signal of 1 is a white diffuse surface, albedo 1, so the share is the signal's cosine-
+    /// weighted mean over the hemisphere). The antiderivative is e^(−s(1 − c))·P(c) with
+    /// P' + sP = 2c³ − c, in closed form; in f64 it stays exact for any lobe up to π.
+    pub fn of(material: &Material) -> Lobe {
+        let Material { specular, lobe, .. } = *material;
+        let sharpness = 1.0 / (lobe * lobe).max(1e-6);
+        if specular <= 0.0 {
+            return Lobe {
+                sharpness,
+                peak: 0.0,
+            };
+        }
+        let s = f64::from(sharpness);
+        let p = |c: f64| {
+            let (s2, s3, s4) = (s * s, s * s * s, s * s * s * s);
+            2.0 / s * c * c * c - 6.0 / s2 * c * c + (12.0 / s3 - 1.0 / s) * c + 1.0 / s2
+                - 12.0 / s4
+        };
+        let c0 = std::f64::consts::FRAC_1_SQRT_2;
+        let share = 8.0 * (p(1.0) - (-s * (1.0 - c0)).exp() * p(c0));
+        Lobe {
+            sharpness,
+            peak: (f64::from(specular) / share) as f32,
+        }
     }
 }
 

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::bvh::{Bvh, Hit};
 use crate::camera::Intrinsics;
 use crate::epipolar::Epipolar;
+use crate::noise::Lobe;
 use crate::wear::Wear;
 
 /// How a surface returns light, as the noise models read it.
@@ -112,13 +113,12 @@ pub struct World {
     surfaces: Vec<Surface>,
 }
 
-/// A target's instance and material, with the sharpness of the material's lobe worked out
-/// once.
+/// A target's instance and material, with the material's specular lobe worked out once.
 #[derive(Clone, Copy, Debug)]
 struct Surface {
     instance: u32,
     material: Material,
-    lobe_sharpness: f32,
+    lobe: Lobe,
     wear: Option<Wear>,
 }
 
@@ -137,9 +137,8 @@ pub struct SurfaceHit {
     pub instance: u32,
     /// Surface material.
     pub material: Material,
-    /// Sharpness of the material's specular lobe, 1 / lobe² (see
-    /// [`Specular`](crate::noise::Specular)).
-    pub lobe_sharpness: f32,
+    /// The material's specular lobe.
+    pub lobe: Lobe,
     /// Share of rust at the hit, 0..1 (the material is the surface's worn by it).
     pub wear: f32,
 }
@@ -174,7 +173,7 @@ impl World {
                 .map(|t| Surface {
                     instance: t.instance,
                     material: t.material,
-                    lobe_sharpness: lobe_sharpness(&t.material),
+                    lobe: Lobe::of(&t.material),
                     wear: t.wear,
                 })
                 .collect(),
@@ -248,7 +247,7 @@ impl World {
             class: info.class,
             instance: surface.instance,
             material: surface.material,
-            lobe_sharpness: surface.lobe_sharpness,
+            lobe: surface.lobe,
             wear: 0.0,
         };
         if let Some(wear) = &surface.wear
@@ -256,13 +255,8 @@ impl World {
         {
             hit.wear = share;
             hit.material = material;
-            hit.lobe_sharpness = lobe_sharpness(&material);
+            hit.lobe = Lobe::of(&material);
         }
         hit
     }
-}
-
-/// Sharpness of a material's specular lobe, 1 / lobe².
-fn lobe_sharpness(m: &Material) -> f32 {
-    1.0 / (m.lobe * m.lobe).max(1e-6)
 }

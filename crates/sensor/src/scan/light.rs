@@ -148,10 +148,7 @@ pub(super) fn illuminate(
     // the diffuse reflection and the highlight about the mirror direction
     let highlight = if material.specular > 0.0 && noise.specular.saturation > 0.0 {
         let half = (light_dir - centre).normalize();
-        let (sharpness, specular) = (hit.lobe_sharpness, material.specular);
-        noise
-            .specular
-            .highlight(specular, sharpness, normal.dot(half), light)
+        noise.specular.highlight(&hit.lobe, normal.dot(half), light)
     } else {
         0.0
     };

@@ -5,6 +5,7 @@ mod geometry;
 mod interreflection;
 mod kit;
 mod noise;
+mod reflectance;
 mod regions;
 mod sensors;
 mod wear;

@@ -181,11 +181,22 @@ fn kinect_depth_comes_in_disparity_steps_and_the_window_removes_strays() {
 fn highlights_saturate_a_blob_that_follows_the_lobe_and_the_exposure() {
     // with the light at the camera, a facing plane's highlight is centred on the axis: a ray θ
     // off the axis sees the half vector θ off the normal, under light cos³θ (incidence and
-    // range), and saturates where 0.6·cos³θ + cos³θ / (2·lobe²)·e^(−(1 − cos θ)/lobe²) exceeds
-    // the saturation
-    let signal = |theta: f64, lobe: f64| {
+    // range), and saturates where 0.6·cos³θ + peak·cos³θ·e^(−(1 − cos θ)/lobe²) exceeds the
+    // saturation, the peak such that the lobe lit straight on returns the specular share (1)
+    // over the hemisphere: 1 / (2·∫₀¹ e^(−(1 − cos(acos(u)/2))/lobe²)·u du)
+    let share = |lobe: f64| {
+        let n = 100_000;
+        let sum: f64 = (0..n)
+            .map(|i| {
+                let u = (i as f64 + 0.5) / n as f64;
+                (-(1.0 - (u.acos() / 2.0).cos()) / (lobe * lobe)).exp() * u
+            })
+            .sum();
+        2.0 * sum / n as f64
+    };
+    let signal = |theta: f64, lobe: f64, share: f64| {
         let light = theta.cos().powi(3);
-        0.6 * light + light / (2.0 * lobe * lobe) * (-(1.0 - theta.cos()) / (lobe * lobe)).exp()
+        0.6 * light + light / share * (-(1.0 - theta.cos()) / (lobe * lobe)).exp()
     };
     let mut blobs = Vec::new();
     for (lobe_deg, saturation) in [(3.0f32, 4.0f32), (6.0, 4.0), (6.0, 8.0)] {
@@ -207,9 +218,10 @@ fn highlights_saturate_a_blob_that_follows_the_lobe_and_the_exposure() {
         );
         // the blob's edge: the angle where the signal falls to the saturation
         let lobe = f64::from(lobe_deg.to_radians());
+        let share = share(lobe);
         let edge = (0..500_000)
             .map(|k| k as f64 * 1e-6)
-            .find(|&t| signal(t, lobe) <= f64::from(saturation))
+            .find(|&t| signal(t, lobe, share) <= f64::from(saturation))
             .unwrap();
         let pixel = 1.0 / 800.0; // the camera's angle a pixel near the axis
         let mut saturated = 0;

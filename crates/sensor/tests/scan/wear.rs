@@ -31,12 +31,21 @@ fn dirty_pole_pot(share: f32, dust: f32, grease: f32, seed: u64) -> Scan {
     scan(&World::new(&[sphere]), &spec, &Affine3A::IDENTITY, seed)
 }
 
-/// (share of the sphere's pixels saturated or dropped, mean SNR of its points, mean wear of its
-/// pixels, mean green of its colour).
+/// (share of the sphere's pixels saturated, mean SNR of its points, mean wear of its pixels, mean
+/// green of its colour).
 fn statistics(s: &Scan) -> (f64, f64, f64, f64) {
+    let saturation = SensorSpec::preset("zivid-2plus-m60")
+        .unwrap()
+        .noise
+        .specular
+        .saturation;
     let on: Vec<&Pixel> = s.pixels.iter().filter(|p| p.instance == 2).collect();
     let n = on.len() as f64;
-    let lost = on.iter().filter(|p| !p.is_valid()).count() as f64 / n;
+    let lost = on
+        .iter()
+        .filter(|p| !p.is_valid() && p.intensity > saturation)
+        .count() as f64
+        / n;
     let valid: Vec<&&Pixel> = on.iter().filter(|p| p.is_valid()).collect();
     let snr = valid.iter().map(|p| f64::from(p.snr)).sum::<f64>() / valid.len() as f64;
     let wear = on.iter().map(|p| f64::from(p.wear) / 255.0).sum::<f64>() / n;

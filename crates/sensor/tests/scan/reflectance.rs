@@ -1,0 +1,111 @@
+//! How materials return the light: the specular lobe's energy, and the signal and SNR that a
+//! material's reflectivity and sheen give together.
+
+use ::sensor::materials::{BLACK_PA66, GREY_PLASTIC, WHITE_PLASTIC};
+use ::sensor::noise::{Lobe, Specular};
+use ::sensor::*;
+use glam::{Affine3A, Vec3};
+
+use crate::kit::*;
+
+/// The share of the light a lobe returns over the hemisphere, lit from `incidence` radians off
+/// the normal: the highlight's signal (1 = a white diffuse surface, albedo 1) averaged over the
+/// outgoing directions, weighted by their cosine.
+fn lobe_albedo(lobe: &Lobe, incidence: f64) -> f64 {
+    let highlight = Specular { saturation: 1.0 };
+    let light = Vec3::new(incidence.sin() as f32, 0.0, incidence.cos() as f32);
+    let (n_theta, n_phi) = (2000, 720);
+    let mut sum = 0.0;
+    for i in 0..n_theta {
+        let theta = (i as f64 + 0.5) / n_theta as f64 * std::f64::consts::FRAC_PI_2;
+        for j in 0..n_phi {
+            let phi = (j as f64 + 0.5) / n_phi as f64 * std::f64::consts::TAU;
+            let out = Vec3::new(
+                (theta.sin() * phi.cos()) as f32,
+                (theta.sin() * phi.sin()) as f32,
+                theta.cos() as f32,
+            );
+            let half = (light + out).normalize();
+            let signal = highlight.highlight(lobe, half.z, 1.0) as f64;
+            sum += signal * theta.cos() * theta.sin();
+        }
+    }
+    let cell = std::f64::consts::FRAC_PI_2 / n_theta as f64 * std::f64::consts::TAU / n_phi as f64;
+    sum * cell / std::f64::consts::PI
+}
+
+#[test]
+fn a_lobe_returns_the_specular_share_its_material_states_and_never_more() {
+    let library = MATERIALS
+        .iter()
+        .map(|&(_, m)| m)
+        .filter(|m| m.specular > 0.0);
+    let lobes = [0.02f32, 0.1, 0.3, 0.8, 2.0, std::f32::consts::PI].map(|lobe| Material {
+        specular: 0.5,
+        lobe,
+        ..Material::default()
+    });
+    for m in library.chain(lobes) {
+        let lobe = Lobe::of(&m);
+        let straight = lobe_albedo(&lobe, 0.0);
+        let specular = f64::from(m.specular);
+        assert!(
+            (straight / specular - 1.0).abs() < 0.01,
+            "{m:?}: {straight}"
+        );
+        for degrees in [20.0f64, 45.0, 70.0, 85.0] {
+            let oblique = lobe_albedo(&lobe, degrees.to_radians());
+            assert!(oblique <= specular * 1.01, "{m:?} at {degrees}°: {oblique}");
+        }
+    }
+}
+
+/// The median SNR of the Zivid 2+ M60's pixels on a plane of `material` 0.6 m away, tilted by
+/// `tilt` radians about the camera's x axis.
+fn median_snr(material: Material, tilt: f32) -> f32 {
+    let m60 = SensorSpec::preset("zivid-2plus-m60").unwrap();
+    // the preset's optics about the axis, on fewer pixels
+    let k = Intrinsics {
+        width: 160,
+        height: 160,
+        cx: 79.5,
+        cy: 79.5,
+        distortion: Distortion::default(),
+        ..m60.intrinsics
+    };
+    let spec = SensorSpec {
+        intrinsics: k,
+        ..m60
+    };
+    let mut plane = quad(
+        Vec3::new(0.0, 0.0, 0.6),
+        Vec3::X * 0.2,
+        Vec3::new(0.0, tilt.cos(), tilt.sin()) * 0.2,
+        1,
+        1,
+    );
+    plane.material = material;
+    let s = scan(&World::new(&[plane]), &spec, &Affine3A::IDENTITY, 1);
+    let mut snr: Vec<f32> = s
+        .pixels
+        .iter()
+        .filter(|p| p.is_valid())
+        .map(|p| p.snr)
+        .collect();
+    assert!(snr.len() > 10_000, "{} points", snr.len());
+    snr.sort_by(f32::total_cmp);
+    snr[snr.len() / 2]
+}
+
+#[test]
+fn black_plastic_returns_a_weaker_signal_than_grey_and_grey_than_white() {
+    for degrees in [0.0f32, 20.0, 45.0, 70.0] {
+        let tilt = degrees.to_radians();
+        let [black, grey, white] =
+            [BLACK_PA66, GREY_PLASTIC, WHITE_PLASTIC].map(|m| median_snr(m, tilt));
+        assert!(
+            black < grey && grey < white,
+            "at {degrees}°: black {black}, grey {grey}, white {white}"
+        );
+    }
+}
