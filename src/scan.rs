@@ -30,9 +30,10 @@ pub struct ScanCmd {
     /// World direction that appears up in the image.
     #[arg(long, default_value = "0,0,1", allow_hyphen_values = true)]
     up: String,
-    /// Which pixels make a point, by Zivid's names: all, by2x2 or by4x4 (each 2×2 or 4×4 block
-    /// summed into one), blueSubsample2x2 or redSubsample2x2 (one colour's pixel of each 2×2
-    /// block, under the projector's light of that colour).
+    /// Which pixels make a point, by Zivid's names, those the sensor offers: all; by2x2 or
+    /// by4x4 (each 2×2 or 4×4 block summed into one: the Zivid 2+ R line, non-Zivid sensors);
+    /// blueSubsample2x2, redSubsample2x2, blueSubsample4x4 or redSubsample4x4 (one colour's
+    /// pixels of each block, under the projector's light of that colour: the Zivid 2 and 2+).
     #[arg(long, default_value = "all")]
     sampling: String,
     /// Cloud formats, comma-separated: ply, pcd, pcd-ascii, npy (SynMotor N×7), npz.
@@ -116,7 +117,7 @@ impl ScanCmd {
                 spec.intrinsics.height,
                 crate::memory::size(bytes)
             ),
-            "scan at a lower resolution (--sampling by2x2 or by4x4) or a smaller mesh",
+            "scan at a lower resolution (a --sampling of 2x2 or 4x4 blocks) or a smaller mesh",
         )?;
         let v = numbers("look-at", &self.look_at, 6)?;
         let up = numbers("up", &self.up, 3)?;

@@ -272,7 +272,7 @@ fn scan_of_a_motor_keeps_its_labels() {
             "--sensor",
             "zivid-2plus-m130",
             "--sampling",
-            "by4x4",
+            "blueSubsample4x4",
             "--look-at",
             "0.05,-1.2,0.6,0,0,0.09",
             "--format",
@@ -334,7 +334,7 @@ fn scan_meshes_take_their_material_from_the_library() {
     // the motor's mean signal and SNR in black plastic and in white plastic
     let signal = |mesh: String, extra: &[&str]| {
         let out = dir.path().join(format!("s{}", extra.len() + mesh.len()));
-        let mut args = vec!["scan", "--mesh", &mesh, "--sampling", "by4x4"];
+        let mut args = vec!["scan", "--mesh", &mesh, "--sampling", "blueSubsample4x4"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--look-at", "0.05,-0.9,0.6,0,0,0.09", "--format", "ply"]);
         args.extend_from_slice(&["--out", out.to_str().unwrap()]);
@@ -566,7 +566,21 @@ fn scan_bad_input_exits_2_and_writes_nothing() {
                 "--out",
                 o_str,
             ],
-            "--sampling = \"blueSubsample2x2\" is not allowed: expected all, by2x2 or by4x4 on zivid-2plus-mr60",
+            "--sampling = \"blueSubsample2x2\" is not allowed: expected one of all, by2x2, by4x4 on zivid-2plus-mr60",
+        ),
+        (
+            vec![
+                "scan",
+                "--mesh",
+                cube_s,
+                "--look-at",
+                la,
+                "--sampling",
+                "by2x2",
+                "--out",
+                o_str,
+            ],
+            "--sampling = \"by2x2\" is not allowed: expected one of all, blueSubsample2x2, redSubsample2x2, blueSubsample4x4, redSubsample4x4 on zivid-2plus-m130",
         ),
     ];
     assert_refused(&cases, &out);
@@ -614,7 +628,7 @@ fn scan_files_are_identical_for_one_and_two_threads() {
                 "--sensor",
                 "zivid-2plus-m130",
                 "--sampling",
-                "by4x4",
+                "blueSubsample4x4",
                 "--look-at",
                 "0.05,-1.2,0.6,0,0,0.09",
                 "--format",
@@ -641,7 +655,7 @@ fn scan_mesh(mesh: &Path, out: &Path) -> Output {
         .args([
             "scan",
             "--sampling",
-            "by4x4",
+            "blueSubsample4x4",
             "--look-at",
             "0,0,-1,0,0,0",
             "--mesh",
@@ -978,6 +992,8 @@ fn empty_scans_and_samples_are_never_silent() {
                 "generate",
                 "--set",
                 "sensor.preset=kinect-v1",
+                "--set",
+                "sensor.sampling=by2x2",
                 "--out",
                 o_str,
             ],
@@ -1084,7 +1100,7 @@ fn preview_and_scan_options_follow_the_common_rules() {
         "--mesh",
         m.join("motor.ply").to_str().unwrap(),
         "--sampling",
-        "by4x4",
+        "blueSubsample4x4",
         "--look-at",
         "0.05,-1.2,0.6,0,0,0.09",
         "--units",
@@ -1166,7 +1182,7 @@ fn coverage_writes_the_share_seen_per_view_and_per_sample() {
             "--clamping",
             "pole-pot-up",
             "--set",
-            "sensor.sampling=by4x4",
+            "sensor.sampling=blueSubsample4x4",
             "--set",
             "camera.tilt_deg=[40,70]",
             "--out",

@@ -39,7 +39,7 @@ fn far_shard(part: u32, out: &Path) -> Command {
         "--set",
         "camera.distance=[0.3,4.0]",
         "--set",
-        "sensor.sampling=by4x4",
+        "sensor.sampling=blueSubsample4x4",
         "-n",
         "8",
         "--resume",
@@ -145,7 +145,7 @@ fn lock_files_and_temporaries_are_never_reached_through_links_or_guessed() {
     let args = |out: &Path| {
         let mut c = motorfactory();
         c.args(["generate", "-n", "2", "--quiet", "--resume", "--set"])
-            .args(["sensor.sampling=by4x4", "--out"])
+            .args(["sensor.sampling=blueSubsample4x4", "--out"])
             .arg(out);
         c
     };

@@ -34,7 +34,7 @@ def main() -> None:
     motor.save(args.out / "motor", formats=["ply"], replace=True)
     meshes = [(p.vertices, p.triangles, p.class_id, p.instance) for p in motor.parts]
     scan = mf.scan(meshes, sensor="zivid-2plus-m60", eye=(0.15, -0.35, 0.35),
-                   target=(0.0, 0.0, 0.05), sampling="by2x2", material="black-pa66")
+                   target=(0.0, 0.0, 0.05), sampling="blueSubsample2x2", material="black-pa66")
     print(f"scan: {scan}")
 
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 5))

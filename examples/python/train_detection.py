@@ -25,7 +25,7 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=40)
     ap.add_argument("--batch", type=int, default=2)
     ap.add_argument("--size", type=int, default=256, help="the model's shorter image side")
-    ap.add_argument("--sampling", default="by4x4", help="the sensor's sampling: all, by2x2, by4x4")
+    ap.add_argument("--sampling", default="blueSubsample4x4", help="the sensor's sampling, by Zivid's names (the M60: all, blueSubsample2x2, blueSubsample4x4, ...)")
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
 

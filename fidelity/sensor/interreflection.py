@@ -1,5 +1,5 @@
-"""The interreflection figure of docs/sensors.md: a 90° inside corner 0.6 m before a Zivid 2+ M60
-(by2x2 sampling), matte grey and polished stainless steel, seen from above (a 2 cm slab of rows
+"""The interreflection figure of docs/sensors.md: a 90° inside corner 0.6 m before a Zivid 2+ MR60
+(the M60's optics, binning 2×2), matte grey and polished stainless steel, seen from above (a 2 cm slab of rows
 at the corner's middle height). On steel the walls mirror each other's stripes: points move along
 their rays and float between the walls; Zivid's reflection filter (on in the preset) removes most.
 
@@ -37,7 +37,7 @@ def corner_stl(path):
 
 def scan(binary, mesh, material, out):
     subprocess.run(
-        [binary, "scan", "--mesh", f"{mesh}@{material}", "--sensor", "zivid-2plus-m60",
+        [binary, "scan", "--mesh", f"{mesh}@{material}", "--sensor", "zivid-2plus-mr60",
          "--sampling", "by2x2", "--look-at", "0.03,-0.6,0.1,0,0,0.1", "--frame", "world",
          "--format", "npy", "--out", str(out)],
         check=True, stdout=subprocess.DEVNULL)

@@ -511,8 +511,9 @@ fn targets(mesh: &Bound<'_, PyAny>, material: Material, offset: u32) -> PyResult
 
 /// Scans `meshes` (file paths, or (vertices, triangles, class, instance) tuples, in metres)
 /// with `sensor` (a preset or a sensor TOML file) from a camera at `eye` looking at `target`,
-/// `up` up, as `motorfactory scan` does; `sampling` is one of Zivid's (`all`, `by2x2`, `by4x4`,
-/// `blueSubsample2x2`, `redSubsample2x2`), `material` a name from the material library.
+/// `up` up, as `motorfactory scan` does; `sampling` one of Zivid's names the sensor offers (`all`;
+/// `blueSubsample2x2`, `blueSubsample4x4`, … on the Zivid 2+ M and L; `by2x2`, `by4x4` on the R
+/// line), `material` a name from the material library.
 #[pyfunction]
 #[pyo3(signature = (meshes, sensor = "zivid-2plus-m130", eye = (0.0, -0.6, 0.6), target = (0.0, 0.0, 0.0), up = (0.0, 0.0, 1.0), seed = 0, sampling = "all", material = "grey-plastic"))]
 #[allow(clippy::too_many_arguments)]

@@ -9,7 +9,7 @@ import motorfactory as mf
 from motorfactory.torch import DetectionDataset, detection_collate
 
 # quarter-resolution scans: 612 x 512 colour images
-FAST = {"sensor.sampling": "by4x4"}
+FAST = {"sensor.sampling": "blueSubsample4x4"}
 
 
 def test_detection_targets_are_the_parts_in_the_colour_image():

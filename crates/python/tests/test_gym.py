@@ -12,7 +12,7 @@ from gymnasium.utils.env_checker import check_env
 import motorfactory as mf
 import motorfactory.gym as mg
 
-FAST = {"sensor.sampling": "by4x4"}
+FAST = {"sensor.sampling": "blueSubsample4x4"}
 
 
 def test_the_environment_passes_gymnasiums_checks():

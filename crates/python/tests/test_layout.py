@@ -32,7 +32,7 @@ def test_the_flat_layout_is_split_by_file_name_as_agiprobot_reads_it(cli, tmp_pa
         [str(cli), "generate", "-n", "12", "--quiet", "--out", str(out),
          "--set", "output.layout=flat", "--set", 'output.formats=["npy"]',
          "--set", "output.scheme=wacv6", "--set", "output.units=millimetres",
-         "--set", "sensor.sampling=by4x4"],
+         "--set", "sensor.sampling=blueSubsample4x4"],
         check=True,
     )
     rows = [json.loads(line) for line in (out / "manifest.jsonl").read_text().splitlines()]

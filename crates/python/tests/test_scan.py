@@ -34,7 +34,7 @@ def test_meshes_from_files(tmp_path):
     m = mf.motor()
     m.save(tmp_path, formats=["stl"], per_part=False)
     s = mf.scan([tmp_path / "motor.stl"], sensor="zivid-2plus-m60", eye=(0.1, -0.4, 0.45),
-                target=(0, 0, 0.05), sampling="by4x4")
+                target=(0, 0, 0.05), sampling="blueSubsample4x4")
     assert s.depth.shape == (512, 612)
     assert (~np.isnan(s.depth)).sum() > 1000
 

@@ -10,7 +10,7 @@ import motorfactory as mf
 from motorfactory.torch import MotorDataset, MotorStream, collate
 
 # quarter-resolution scans: the same pipeline, a quarter of the time
-FAST = {"sensor.sampling": "by4x4"}
+FAST = {"sensor.sampling": "blueSubsample4x4"}
 
 
 def test_dataset_items_are_the_generators_samples():

@@ -17,7 +17,7 @@ const RULE: Rule = Rule {
 
 fn recipe(diffuse: bool) -> Recipe {
     let mut config = Config::default();
-    config.sensor.sampling = sensor::Sampling::By4x4;
+    config.sensor.sampling = sensor::Sampling::BlueSubsample4x4;
     if !diffuse {
         config.sensor.noise = Some(toml::from_str("interreflection.diffuse_reach = 0.0").unwrap());
     }

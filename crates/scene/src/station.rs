@@ -208,7 +208,7 @@ mod tests {
 
     fn recipe() -> Recipe {
         let mut config = Config::default();
-        config.sensor.sampling = sensor::Sampling::By4x4;
+        config.sensor.sampling = sensor::Sampling::BlueSubsample4x4;
         Recipe::new(config, Vec::new()).unwrap()
     }
 

@@ -43,6 +43,7 @@ fn the_configuration_reference_lists_every_key() {
     let mut table = default_table();
     let spec = toml::Value::try_from(sensor::SensorSpec::preset("ideal").unwrap()).unwrap();
     scene::set_key(&mut table, "sensor.spec", spec).unwrap();
+    scene::set_key(&mut table, "sensor.sampling", "by2x2".into()).unwrap();
     scene::set_key(
         &mut table,
         "sensor.noise",

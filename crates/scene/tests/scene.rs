@@ -91,7 +91,7 @@ fn a_configs_noise_and_colour_keys_change_those_keys_and_keep_the_presets_others
 fn depth_scales(cameras: i64, n: u64) -> Vec<(f64, u64)> {
     let mut t = default_table();
     for (key, value) in [
-        ("sensor.sampling", "by4x4".into()),
+        ("sensor.sampling", "blueSubsample4x4".into()),
         ("sensor.cameras", cameras.into()),
         ("output.images", true.into()),
     ] {
@@ -272,7 +272,7 @@ fn cap_cameras_look_at_the_motor_from_the_configured_cap() {
 #[test]
 fn a_sample_json_reads_back_as_written() {
     let mut table = scene::config::builtin_table("registration").unwrap();
-    scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
+    scene::set_key(&mut table, "sensor.sampling", "blueSubsample4x4".into()).unwrap();
     let out = std::env::temp_dir().join("never-written");
     let dataset = scene::Dataset::new(table, None, None, scene::Shard::ALL, &out).unwrap();
     let sample = scene::make(&dataset.recipe(5).unwrap(), 5).unwrap();
@@ -345,7 +345,7 @@ fn registration_pairs_record_their_overlap() {
 fn a_standing_motors_crop_turns_with_it_and_holds_it_whole() {
     let mut table = scene::config::builtin_table("default").unwrap();
     scene::set_key(&mut table, "cell.clamping", "pole-pot-up".into()).unwrap();
-    scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
+    scene::set_key(&mut table, "sensor.sampling", "blueSubsample4x4".into()).unwrap();
     let recipe = Recipe::new(Config::from_table(&table).unwrap(), Vec::new()).unwrap();
     for index in 0..5 {
         let sample = scene::make(&recipe, index).unwrap();
@@ -391,7 +391,7 @@ fn reclamped_views_carry_the_motors_pose_in_their_own_cell() {
     for (key, value) in [
         ("cell.reclamp", toml::Value::Boolean(true)),
         ("output.clean", true.into()),
-        ("sensor.sampling", "by4x4".into()),
+        ("sensor.sampling", "blueSubsample4x4".into()),
         ("camera.views", 3.into()),
     ] {
         scene::set_key(&mut table, key, value).unwrap();
@@ -549,7 +549,7 @@ fn worn_samples_carry_the_share_of_rust_on_the_parts_that_rust() {
     scene::set_key(&mut table, "cell.wear.screw_seats", all).unwrap();
     scene::set_key(&mut table, "cell.wear.variation", 0.2.into()).unwrap();
     scene::set_key(&mut table, "cell.wear.grain", true.into()).unwrap();
-    scene::set_key(&mut table, "sensor.sampling", "by4x4".into()).unwrap();
+    scene::set_key(&mut table, "sensor.sampling", "blueSubsample4x4".into()).unwrap();
     let config = Config::from_table(&table).unwrap();
     let scheme = config.output.scheme;
     let recipe = Recipe::new(config, Vec::new()).unwrap();

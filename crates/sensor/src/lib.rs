@@ -29,7 +29,7 @@
 //!     wear: None,
 //! };
 //! let world = World::new(&[target]);
-//! let mut zivid = SensorSpec::preset("zivid-2plus-m130")?.binned(4); // Zivid's by4x4
+//! let mut zivid = SensorSpec::preset("zivid-2plus-mr130")?.binned(4); // Zivid's by4x4
 //! zivid.min_range = 0.5; // the preset's working range starts at 0.8 m
 //! let pose = look_at(Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, Vec3::Y).unwrap();
 //! let cloud = scan(&world, &zivid, &pose, 0).cloud(false, Frame::World, Units::Metres);

@@ -30,8 +30,8 @@ from ._core import Station
 
 CLAMPINGS = ("gear-container-up", "pole-pot-up")
 
-# views at the default 612 x 512 (the Zivid 2+ M60 with 4 x 4 pixels summed)
-DEFAULT_OVERRIDES = {"sensor.sampling": "by4x4"}
+# views at the default 612 x 512 (the Zivid 2+ M60 sampling the blue pixels of each 4 x 4 block)
+DEFAULT_OVERRIDES = {"sensor.sampling": "blueSubsample4x4"}
 
 # half the side of the cube the observed points lie in, about the motor's centre, m
 EXTENT = 0.5

@@ -28,8 +28,8 @@ pub struct SensorConfig {
     /// 0, a new one every sample; n, one of n drawn per sample, unit k's seed the
     /// calibration's seed + k (n = 1: the sensor's own camera).
     pub cameras: u64,
-    /// Which pixels make a point, by Zivid's names: `all`, `by2x2`, `by4x4`, `blueSubsample2x2`
-    /// or `redSubsample2x2`.
+    /// Which pixels make a point, by Zivid's names, those the sensor offers (see
+    /// [`sensor::SensorSpec::samplings`]).
     pub sampling: Sampling,
     /// The image resized to `[width, height]` after the sampling (scaled to cover, centred,
     /// the excess cut off), if given.

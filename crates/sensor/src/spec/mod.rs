@@ -163,6 +163,10 @@ pub struct SensorSpec {
     /// The camera's processing of each capture, named as Zivid's settings.
     #[serde(default)]
     pub processing: Processing,
+    /// The pixel samplings the camera offers, as its maker lists them (empty: any the imager
+    /// allows, see [`SensorSpec::sampled`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub samplings: Vec<Sampling>,
 }
 
 /// A camera's calibration error, fixed for the camera (drawn from `seed`, its serial number as
@@ -289,16 +293,30 @@ impl SensorSpec {
     }
 
     /// This sensor with Zivid's pixel sampling: [`SensorSpec::binned`] for `by2x2` and `by4x4`;
-    /// for `blueSubsample2x2` and `redSubsample2x2` one pixel of each 2×2 block (its own
-    /// light, its position in the block: [`Intrinsics::sampled`]) under the projector's light
-    /// of that colour, of which the pixel's colour filter passes all and of a white ambient
-    /// light a third.
+    /// for the subsamplings that colour's pixels of each block (one of a 2×2 block, the four
+    /// of a 4×4 block summed; where they lie: [`Intrinsics::sampled`]) under the projector's
+    /// light of that colour, of which the pixels' colour filter passes all and of a white
+    /// ambient light a third.
     ///
     /// # Errors
     ///
-    /// [`Error::Invalid`] for a subsampling on a sensor without a colour imager under its
+    /// [`Error::Invalid`] for a sampling the camera does not offer ([`SensorSpec::samplings`],
+    /// listing those it does), or a subsampling on a sensor without a colour imager under its
     /// projector (no Bayer grid to pick a colour from).
     pub fn sampled(&self, sampling: Sampling) -> Result<SensorSpec, Error> {
+        let refuse = |allowed: String| Error::Invalid {
+            key: "sampling".into(),
+            value: format!("\"{sampling}\""),
+            allowed,
+        };
+        if !self.samplings.is_empty() && !self.samplings.contains(&sampling) {
+            let names: Vec<String> = self.samplings.iter().map(Sampling::to_string).collect();
+            return Err(refuse(format!(
+                "one of {} on {}",
+                names.join(", "),
+                self.name
+            )));
+        }
         if !sampling.subsamples() {
             return Ok(self.binned(sampling.factor()));
         }
@@ -307,19 +325,18 @@ impl SensorSpec {
             && !self.colour.monochrome
             && self.colour.offset == [0.0; 3];
         if !bayer {
-            return Err(Error::Invalid {
-                key: "sampling".into(),
-                value: format!("\"{sampling}\""),
-                allowed: format!(
-                    "all, by2x2 or by4x4 on {}, whose imager has no colour pixels under its projector",
-                    self.name
-                ),
-            });
+            return Err(refuse(format!(
+                "all, by2x2 or by4x4 on {}, whose imager has no colour pixels under its projector",
+                self.name
+            )));
         }
         let factor = sampling.factor();
         let sampled = self.intrinsics.sampled(factor, sampling.offset());
         let mut spec = self.fewer_pixels(factor as f32, sampled);
+        let pixels = sampling.pixels() as f32;
+        spec.noise.snr.electrons *= pixels;
         spec.noise.snr.ambient /= 3.0;
+        spec.colour.noise /= pixels.sqrt();
         Ok(spec)
     }
 

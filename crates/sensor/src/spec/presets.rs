@@ -5,7 +5,7 @@ use super::{
     Calibration, ClusterFilter, ClusterRemoval, ColourCamera, ColourCapture, ContrastDistortion,
     Correction, ExperimentalFilters, Filters, Gaussian, HoleFilter, HoleRepair, Model, NoiseFilter,
     OutlierFilter, Processing, Projector, ReflectionFilter, ReflectionMode, ReflectionRemoval,
-    Removal, Repair, SensorSpec, Smoothing, Suppression,
+    Removal, Repair, Sampling, SensorSpec, Smoothing, Suppression,
 };
 use crate::Error;
 use crate::camera::{Distortion, Intrinsics};
@@ -275,8 +275,9 @@ impl SensorSpec {
     /// let m60 = SensorSpec::preset("zivid-2plus-m60")?;
     /// assert_eq!((m60.intrinsics.width, m60.intrinsics.height), (2448, 2048));
     /// assert!(matches!(m60.model, Model::StructuredLight { .. }));
-    /// // 4×4 binning: Zivid's `by4x4` sampling
-    /// assert_eq!(m60.intrinsics.binned(4).width, 612);
+    /// // Zivid's samplings for the M60; `by4x4` (4×4 binning) is the R line's
+    /// assert_eq!(m60.sampled(sensor::Sampling::BlueSubsample4x4)?.intrinsics.width, 612);
+    /// assert!(m60.sampled(sensor::Sampling::By4x4).is_err());
     /// assert!(SensorSpec::preset("zivid-3").is_err());
     /// # Ok::<(), sensor::Error>(())
     /// ```
@@ -293,6 +294,7 @@ impl SensorSpec {
                 colour: ColourCamera::default(),
                 calibration: Calibration::default(),
                 processing: Processing::default(),
+                samplings: Vec::new(),
             };
         let zivid = |(camera, projector), range, focus| SensorSpec {
             calibration: ZIVID_CALIBRATION,
@@ -306,57 +308,67 @@ impl SensorSpec {
                 focus,
             )
         };
+        let offering = |s: SensorSpec, samplings: &[Sampling]| SensorSpec {
+            samplings: samplings.to_vec(),
+            ..s
+        };
+        // the R line: a monochrome imager that bins
         let monochrome = |s: SensorSpec| SensorSpec {
             colour: ColourCamera {
                 monochrome: true,
                 ..s.colour
             },
+            samplings: vec![Sampling::All, Sampling::By2x2, Sampling::By4x4],
             ..s
         };
+        let plus = [
+            Sampling::All,
+            Sampling::BlueSubsample2x2,
+            Sampling::RedSubsample2x2,
+            Sampling::BlueSubsample4x4,
+            Sampling::RedSubsample4x4,
+        ];
+        let m70 = || zivid2(ZIVID_2, 1785.0, 111.2, 0.113, 292.0);
+        let l100 = || zivid2(ZIVID_2, 1784.0, 111.3, 0.112, 292.0);
         let m60 = || zivid2(ZIVID_2PLUS, 2481.0, 111.2, 0.085, 233.0);
         let m130 = || zivid2(ZIVID_2PLUS, 4028.0, 111.9, 0.069, 351.0);
         let l110 = || zivid2(ZIVID_2PLUS, 2479.0, 111.6, 0.087, 232.0);
         Ok(match name {
-            "zivid-one-plus-m" => zivid(
-                (
-                    Intrinsics {
-                        width: 1920,
-                        height: 1200,
-                        fx: 2776.6,
-                        fy: 2776.6,
-                        cx: 952.4,
-                        cy: 597.9,
-                        distortion: Distortion {
-                            k1: -0.28,
-                            k2: 0.41,
-                            k3: -0.51,
-                            p1: 0.0,
-                            p2: 0.0,
+            "zivid-one-plus-m" => offering(
+                zivid(
+                    (
+                        Intrinsics {
+                            width: 1920,
+                            height: 1200,
+                            fx: 2776.6,
+                            fy: 2776.6,
+                            cx: 952.4,
+                            cy: 597.9,
+                            distortion: Distortion {
+                                k1: -0.28,
+                                k2: 0.41,
+                                k3: -0.51,
+                                p1: 0.0,
+                                p2: 0.0,
+                            },
                         },
-                    },
-                    Projector {
-                        baseline: 0.15,
-                        convergence: 1.0,
-                        hfov_deg: 45.0,
-                        vfov_deg: 30.0,
-                    },
+                        Projector {
+                            baseline: 0.15,
+                            convergence: 1.0,
+                            hfov_deg: 45.0,
+                            vfov_deg: 30.0,
+                        },
+                    ),
+                    (0.6, 1.6),
+                    1.0,
                 ),
-                (0.6, 1.6),
-                1.0,
+                &[Sampling::All],
             ),
-            "zivid-2-m70" => zivid(
-                zivid2(ZIVID_2, 1785.0, 111.2, 0.113, 292.0),
-                (0.3, 1.3),
-                0.7,
-            ),
-            "zivid-2-l100" => zivid(
-                zivid2(ZIVID_2, 1784.0, 111.3, 0.112, 292.0),
-                (0.6, 1.6),
-                1.0,
-            ),
-            "zivid-2plus-m60" => zivid(m60(), (0.3, 1.1), 0.6),
-            "zivid-2plus-m130" => zivid(m130(), (0.8, 2.0), 1.3),
-            "zivid-2plus-l110" => zivid(l110(), (0.7, 1.7), 1.1),
+            "zivid-2-m70" => offering(zivid(m70(), (0.3, 1.3), 0.7), &plus[..3]),
+            "zivid-2-l100" => offering(zivid(l100(), (0.6, 1.6), 1.0), &plus[..3]),
+            "zivid-2plus-m60" => offering(zivid(m60(), (0.3, 1.1), 0.6), &plus),
+            "zivid-2plus-m130" => offering(zivid(m130(), (0.8, 2.0), 1.3), &plus),
+            "zivid-2plus-l110" => offering(zivid(l110(), (0.7, 1.7), 1.1), &plus),
             // the R line: the optics of M60, M130 and L110, a monochrome 2D imager
             "zivid-2plus-mr60" => monochrome(zivid(m60(), (0.3, 1.1), 0.6)),
             "zivid-2plus-mr130" => monochrome(zivid(m130(), (0.8, 2.0), 1.3)),

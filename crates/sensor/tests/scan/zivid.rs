@@ -921,27 +921,36 @@ fn noise_suppression_smooths_weak_signal_and_keeps_steps_and_strong_signal() {
 }
 
 #[test]
-fn subsampling_keeps_one_colour_pixel_of_each_block_under_its_light() {
+fn subsampling_keeps_one_colours_pixels_of_each_block_under_its_light() {
     let m60 = SensorSpec::preset("zivid-2plus-m60").unwrap();
+    let mr60 = SensorSpec::preset("zivid-2plus-mr60").unwrap();
     let k = &m60.intrinsics;
-    // Zivid's pixel mapping: blue the block's first pixel, red its last, a bin its centre
-    for (sampling, offset) in [
-        (Sampling::BlueSubsample2x2, 0.0),
-        (Sampling::RedSubsample2x2, 1.0),
-        (Sampling::By2x2, 0.5),
+    // Zivid's pixel mapping: blue the 2×2 block's first pixel, red its last, a bin its centre;
+    // a 4×4 block's blue pixels (0 and 2) about 1, its red ones about 2
+    for (spec, sampling, offset) in [
+        (&m60, Sampling::BlueSubsample2x2, 0.0),
+        (&m60, Sampling::RedSubsample2x2, 1.0),
+        (&mr60, Sampling::By2x2, 0.5),
+        (&m60, Sampling::BlueSubsample4x4, 1.0),
+        (&m60, Sampling::RedSubsample4x4, 2.0),
+        (&mr60, Sampling::By4x4, 1.5),
     ] {
-        let s = m60.sampled(sampling).unwrap();
-        assert_eq!((s.intrinsics.width, s.intrinsics.height), (1224, 1024));
-        for (u, v) in [(0.0, 0.0), (611.0, 300.0), (1223.0, 1023.0)] {
+        let s = spec.sampled(sampling).unwrap();
+        let f = f64::from(sampling.factor());
+        assert_eq!(
+            (s.intrinsics.width, s.intrinsics.height),
+            (2448 / sampling.factor(), 2048 / sampling.factor())
+        );
+        for (u, v) in [(0.0, 0.0), (300.0, 200.0), (611.0, 511.0)] {
             let (a, b) = (
                 s.intrinsics.ray(u, v),
-                k.ray(2.0 * u + offset, 2.0 * v + offset),
+                k.ray(f * u + offset, f * v + offset),
             );
             assert!(a.angle_between(b) < 1e-6, "{sampling}: {a} vs {b}");
         }
     }
-    // one pixel's light, a third of the ambient: between every pixel and the 2×2 bin, and the
-    // points err by the σ their SNR gives
+    // a 2×2 subsample has one pixel's light and a third of the ambient: between every pixel and
+    // the 2×2 bin; a 4×4 subsample four pixels' light; the points err by the σ their SNR gives
     let world = plane(0.6, 0.5);
     let mean_snr = |spec: &SensorSpec| {
         let s = scan(&world, spec, &Affine3A::IDENTITY, 3);
@@ -954,28 +963,70 @@ fn subsampling_keeps_one_colour_pixel_of_each_block_under_its_light() {
     let snr = blue_spec.noise.snr;
     let valid: Vec<&Pixel> = s.pixels.iter().filter(|p| p.is_valid()).collect();
     let blue = valid.iter().map(|p| p.snr as f64).sum::<f64>() / valid.len() as f64;
-    let by2 = mean_snr(&m60.sampled(Sampling::By2x2).unwrap());
+    let by2 = mean_snr(&mr60.sampled(Sampling::By2x2).unwrap());
+    let blue4 = mean_snr(&m60.sampled(Sampling::BlueSubsample4x4).unwrap());
     assert!(
-        all < blue && blue < by2,
-        "all {all}, blue {blue}, by2x2 {by2}"
+        all < blue && blue < by2 && blue < blue4,
+        "all {all}, blue {blue}, by2x2 {by2}, blue 4×4 {blue4}"
     );
     let full = m60.noise.snr;
     assert_eq!(
         (snr.electrons, snr.ambient),
         (full.electrons, full.ambient / 3.0)
     );
+    let snr4 = m60.sampled(Sampling::BlueSubsample4x4).unwrap().noise.snr;
+    assert_eq!(
+        (snr4.electrons, snr4.ambient),
+        (4.0 * full.electrons, full.ambient / 3.0)
+    );
     let fb = blue_spec.focal_baseline();
     let (_, sd) = mean_std(&z_scores(&s, |p| snr.sigma_z(p.snr, p.clean.z, fb) as f64));
     assert!((sd - 1.0).abs() < 0.02, "{sd}");
-    // no colour pixels on the R line's monochrome imager
-    let mr60 = SensorSpec::preset("zivid-2plus-mr60").unwrap();
-    let e = mr60
-        .sampled(Sampling::RedSubsample2x2)
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.starts_with("sampling = \"redSubsample2x2\" is not allowed"),
-        "{e}"
-    );
-    assert!(mr60.sampled(Sampling::By2x2).is_ok());
+}
+
+#[test]
+fn each_zivid_offers_the_samplings_zivid_lists_for_it() {
+    use Sampling::*;
+    let plus = vec![
+        All,
+        BlueSubsample2x2,
+        RedSubsample2x2,
+        BlueSubsample4x4,
+        RedSubsample4x4,
+    ];
+    for (preset, offered) in [
+        ("zivid-one-plus-m", vec![All]),
+        ("zivid-2-m70", plus[..3].to_vec()),
+        ("zivid-2-l100", plus[..3].to_vec()),
+        ("zivid-2plus-m60", plus.clone()),
+        ("zivid-2plus-m130", plus.clone()),
+        ("zivid-2plus-l110", plus.clone()),
+        ("zivid-2plus-mr60", vec![All, By2x2, By4x4]),
+        ("zivid-2plus-mr130", vec![All, By2x2, By4x4]),
+        ("zivid-2plus-lr110", vec![All, By2x2, By4x4]),
+    ] {
+        let spec = SensorSpec::preset(preset).unwrap();
+        assert_eq!(spec.samplings, offered, "{preset}");
+        let names: Vec<String> = offered.iter().map(Sampling::to_string).collect();
+        for sampling in Sampling::ALL {
+            match spec.sampled(sampling) {
+                Ok(_) => assert!(offered.contains(&sampling), "{preset} took {sampling}"),
+                Err(e) => {
+                    assert!(!offered.contains(&sampling), "{preset}: {e}");
+                    assert_eq!(
+                        e.to_string(),
+                        format!(
+                            "sampling = \"{sampling}\" is not allowed: expected one of {} on {preset}",
+                            names.join(", ")
+                        )
+                    );
+                }
+            }
+        }
+    }
+    // cameras of no maker's list: binning anywhere, subsampling on a Bayer imager under a
+    // projector only
+    let d435 = SensorSpec::preset("realsense-d435-rgb").unwrap();
+    assert!(d435.samplings.is_empty() && d435.sampled(By4x4).is_ok());
+    assert!(d435.sampled(BlueSubsample2x2).is_err());
 }
