@@ -457,8 +457,10 @@ impl Default for Edges {
 /// brightness, with `stripes` periods across the projector's field; the period found from the
 /// mean column, as a coarser pattern would), and its point lands on its own ray where that
 /// column's light plane meets it: between the two surfaces, or a period off, a few pixels from
-/// the edge, also into shadows and free space. Its SNR is the summed stripes' modulation over
-/// the summed light's noise, so the noise filter removes the weakest.
+/// the edge, also into shadows and free space. Beside a step of brightness, or a highlight's
+/// saturated core, the brighter light pulls the phase across the baseline (Zivid's contrast
+/// distortion). Its SNR is the summed stripes' modulation over the summed light's noise, so the
+/// noise filter removes the weakest.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Wings {

@@ -104,13 +104,17 @@ pub(super) fn wings(scan: &mut Scan, window: &Window, setup: &Capture) {
         (c > 0 && c + 1 < w && bends(depth[i - 1], depth[i + 1]))
             || (r > 0 && r + 1 < h && bends(depth[i - w], depth[i + w]))
     };
+    // a saturated pixel is a highlight's core: its light, far brighter than its neighbours',
+    // bleeds into them however smoothly its lobe falls off
     let step = |r: usize, c: usize| {
         let i = r * w + c;
         let steps = |j: usize| {
             let (a, b) = (signal[i], signal[j]);
             a > 0.0 && b > 0.0 && a.max(b) > STEP * a.min(b)
         };
-        (c > 0 && c + 1 < w && steps(i + 1)) || (r > 0 && r + 1 < h && steps(i + w))
+        noise.specular.saturates(signal[i])
+            || (c > 0 && c + 1 < w && steps(i + 1))
+            || (r > 0 && r + 1 < h && steps(i + w))
     };
     let bends = Counts::new(&grid(h, w, |r, c| bend(r, c) || step(r, c)), w);
     // with Zivid's contrast-distortion filters, the pixels pulled by steps of brightness alone

@@ -493,8 +493,8 @@ impl SensorSpec {
             (
                 "processing.filters.experimental.contrast_distortion.removal.threshold",
                 filters.experimental.contrast_distortion.removal.threshold,
-                0.0..=f32::MAX,
-                "a share of a stripe period >= 0",
+                0.0..=1.0,
+                "a value from 0 to 1 (higher removes more)",
             ),
             (
                 "processing.filters.hole.repair.hole_size",

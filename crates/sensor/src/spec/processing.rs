@@ -42,15 +42,16 @@ pub struct ExperimentalFilters {
 /// distortion (see [`Wings`](crate::noise::Wings)), on the points of a smooth surface pulled by
 /// a step of brightness within the blur (no depth edge, no dark pixel within its reach). Zivid
 /// estimates the pull from its images; the model takes it as the distance between the decoded
-/// column and the point's own.
+/// column and the point's own, in camera pixels of disparity.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ContrastDistortion {
     /// `...Correction`: moves each such point back towards its surface by `strength` (0 to 1)
     /// of its pull.
     pub correction: Correction,
-    /// `...Removal`: removes each such point whose pull, after the correction, exceeds
-    /// `threshold` stripe periods.
+    /// `...Removal`: removes the points whose pull is large; a higher `threshold` (0 to 1)
+    /// removes more, as Zivid's: those pulled more than (1 − `threshold`) × the blur's σ
+    /// (`noise.wings.psf_px`) pixels.
     pub removal: Removal,
 }
 
@@ -71,18 +72,20 @@ impl ContrastDistortion {
     }
 
     /// The column a point pulled from its own column `own` to `decoded` keeps after the
-    /// filters (`period` the stripes' period), or `None` where the removal takes it.
+    /// filters, or `None` where the removal takes it; `per_pixel` is a camera pixel's width in
+    /// columns, `blur_px` the blur's σ in pixels.
     #[inline]
-    pub fn filter(&self, decoded: f32, own: f32, period: f32) -> Option<f32> {
+    pub fn filter(&self, decoded: f32, own: f32, per_pixel: f32, blur_px: f32) -> Option<f32> {
+        let pull_px = (decoded - own).abs() / per_pixel;
+        if self.removal.enabled && pull_px > (1.0 - self.removal.threshold) * blur_px {
+            return None;
+        }
         let strength = if self.correction.enabled {
             self.correction.strength
         } else {
             0.0
         };
-        let column = decoded + strength * (own - decoded);
-        let removed =
-            self.removal.enabled && (column - own).abs() > self.removal.threshold * period;
-        (!removed).then_some(column)
+        Some(decoded + strength * (own - decoded))
     }
 }
 
