@@ -60,23 +60,28 @@ fn a_lobe_returns_the_specular_share_its_material_states_and_never_more() {
     }
 }
 
-/// The median SNR of the Zivid 2+ M60's pixels on a plane of `material` 0.6 m away, tilted by
-/// `tilt` radians about the camera's x axis.
-fn median_snr(material: Material, tilt: f32) -> f32 {
+/// The Zivid 2+ M60: its optics about the axis, on `side`×`side` pixels.
+fn m60_about_the_axis(side: u32) -> SensorSpec {
     let m60 = SensorSpec::preset("zivid-2plus-m60").unwrap();
-    // the preset's optics about the axis, on fewer pixels
+    let centre = (f64::from(side) - 1.0) / 2.0;
     let k = Intrinsics {
-        width: 160,
-        height: 160,
-        cx: 79.5,
-        cy: 79.5,
+        width: side,
+        height: side,
+        cx: centre,
+        cy: centre,
         distortion: Distortion::default(),
         ..m60.intrinsics
     };
-    let spec = SensorSpec {
+    SensorSpec {
         intrinsics: k,
         ..m60
-    };
+    }
+}
+
+/// The median SNR of the Zivid 2+ M60's pixels on a plane of `material` 0.6 m away, tilted by
+/// `tilt` radians about the camera's x axis.
+fn median_snr(material: Material, tilt: f32) -> f32 {
+    let spec = m60_about_the_axis(160);
     let mut plane = quad(
         Vec3::new(0.0, 0.0, 0.6),
         Vec3::X * 0.2,
@@ -116,19 +121,7 @@ fn black_plastic_returns_a_weaker_signal_than_grey_and_grey_than_white() {
 /// each side of it (left, right, above, below), and the 90th percentile of the absolute error of
 /// those points and of those 8 to 20 px from it (beyond the blur's reach, as steep).
 fn highlight_neighbours(removal: Option<f32>) -> ([f64; 4], f64, f64) {
-    let m60 = SensorSpec::preset("zivid-2plus-m60").unwrap();
-    let k = Intrinsics {
-        width: 400,
-        height: 400,
-        cx: 199.5,
-        cy: 199.5,
-        distortion: Distortion::default(),
-        ..m60.intrinsics
-    };
-    let mut spec = SensorSpec {
-        intrinsics: k,
-        ..m60
-    };
+    let mut spec = m60_about_the_axis(400);
     let filters = &mut spec.processing.filters.experimental.contrast_distortion;
     filters.correction.enabled = false;
     if let Some(threshold) = removal {
