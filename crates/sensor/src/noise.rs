@@ -416,8 +416,8 @@ impl Lobe {
             };
         }
         let s = f64::from(sharpness);
+        let (s2, s3, s4) = (s * s, s * s * s, s * s * s * s);
         let p = |c: f64| {
-            let (s2, s3, s4) = (s * s, s * s * s, s * s * s * s);
             2.0 / s * c * c * c - 6.0 / s2 * c * c + (12.0 / s3 - 1.0 / s) * c + 1.0 / s2
                 - 12.0 / s4
         };

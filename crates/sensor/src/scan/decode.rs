@@ -171,12 +171,11 @@ pub(super) fn decode(
     let filters = &sensor.processing.filters;
     let column = if pulled {
         let own = frustum.column(px.clean);
-        let per_pixel = 1.0 / k.fx as f32;
         let blur = sensor.noise.wings.psf_px;
         match filters
             .experimental
             .contrast_distortion
-            .filter(column, own, per_pixel, blur)
+            .filter(column, own, k.fx as f32, blur)
         {
             Some(column) => column,
             None => return out,

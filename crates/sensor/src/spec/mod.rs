@@ -254,7 +254,8 @@ impl SensorSpec {
     /// colour image's noise falls by `factor`), and whose noise correlates, and whose blur
     /// spreads, over as many fewer pixels.
     pub fn binned(&self, factor: u32) -> SensorSpec {
-        self.gathered(factor as f32, self.intrinsics.binned(factor))
+        let f = factor as f32;
+        self.gathered(f, f, self.intrinsics.binned(factor))
     }
 
     /// This sensor's image resized to `width`×`height` (see [`Intrinsics::resized`]): each new
@@ -279,16 +280,17 @@ impl SensorSpec {
             });
         }
         let (intrinsics, scale) = k.resized(width, height);
-        Ok(self.gathered((1.0 / scale) as f32, intrinsics))
+        let f = (1.0 / scale) as f32;
+        Ok(self.gathered(f, f, intrinsics))
     }
 
-    /// This sensor with camera `intrinsics`, each of whose pixels gathers the light of
-    /// `factor`² of this one's: the charge of as many more (the colour image's noise falls by
-    /// `factor`), over [`SensorSpec::fewer_pixels`].
-    fn gathered(&self, factor: f32, intrinsics: Intrinsics) -> SensorSpec {
+    /// This sensor with camera `intrinsics`, `factor` times fewer pixels along each axis
+    /// ([`SensorSpec::fewer_pixels`]), each of which gathers the light of `side`² of this
+    /// one's: the charge of as many (the colour image's noise falls by `side`).
+    fn gathered(&self, factor: f32, side: f32, intrinsics: Intrinsics) -> SensorSpec {
         let mut spec = self.fewer_pixels(factor, intrinsics);
-        spec.noise.snr.electrons *= factor * factor;
-        spec.colour.noise /= factor;
+        spec.noise.snr.electrons *= side * side;
+        spec.colour.noise /= side;
         spec
     }
 
@@ -332,11 +334,10 @@ impl SensorSpec {
         }
         let factor = sampling.factor();
         let sampled = self.intrinsics.sampled(factor, sampling.offset());
-        let mut spec = self.fewer_pixels(factor as f32, sampled);
-        let pixels = sampling.pixels() as f32;
-        spec.noise.snr.electrons *= pixels;
+        // one pixel of each 2×2 block's colour, the four of a 4×4 block's
+        let side = (factor / 2) as f32;
+        let mut spec = self.gathered(factor as f32, side, sampled);
         spec.noise.snr.ambient /= 3.0;
-        spec.colour.noise /= pixels.sqrt();
         Ok(spec)
     }
 

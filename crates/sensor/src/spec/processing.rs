@@ -72,11 +72,11 @@ impl ContrastDistortion {
     }
 
     /// The column a point pulled from its own column `own` to `decoded` keeps after the
-    /// filters, or `None` where the removal takes it; `per_pixel` is a camera pixel's width in
-    /// columns, `blur_px` the blur's σ in pixels.
+    /// filters, or `None` where the removal takes it; `fx` is the camera's focal length in
+    /// pixels (pixels per column), `blur_px` the blur's σ in pixels.
     #[inline]
-    pub fn filter(&self, decoded: f32, own: f32, per_pixel: f32, blur_px: f32) -> Option<f32> {
-        let pull_px = (decoded - own).abs() / per_pixel;
+    pub fn filter(&self, decoded: f32, own: f32, fx: f32, blur_px: f32) -> Option<f32> {
+        let pull_px = (decoded - own).abs() * fx;
         if self.removal.enabled && pull_px > (1.0 - self.removal.threshold) * blur_px {
             return None;
         }

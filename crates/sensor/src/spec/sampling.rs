@@ -88,15 +88,6 @@ impl Sampling {
             _ => (f64::from(self.factor()) - 1.0) / 2.0,
         }
     }
-
-    /// How many pixels' light a point gathers.
-    pub fn pixels(self) -> u32 {
-        if self.subsamples() {
-            (self.factor() / 2).pow(2)
-        } else {
-            self.factor().pow(2)
-        }
-    }
 }
 
 impl std::fmt::Display for Sampling {
