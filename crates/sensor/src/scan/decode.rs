@@ -127,10 +127,11 @@ impl Stripes {
 /// Pixel `px` (its column and row) decoded from the light `sum` it receives: its point on its
 /// own ray at the decoded column, with the SNR of that light, or none where that light
 /// saturates it, a filter removes it (the noise filter; the reflection filter where its
-/// patterns disagree) or the column's light plane
-/// meets the ray out of range. A pixel without a surface of its own takes the labels of
-/// `strongest`, the surface whose light dominates. A pixel `pulled` by a step of brightness
-/// alone (a smooth surface) goes through Zivid's contrast-distortion filters.
+/// patterns show light from elsewhere or an ambiguous unwrapping) or the column's light plane
+/// meets the ray out of range; the point keeps the share of its light from elsewhere. A pixel
+/// without a surface of its own takes the labels of `strongest`, the surface whose light
+/// dominates. A pixel `pulled` by a step of brightness alone (a smooth surface) goes through
+/// Zivid's contrast-distortion filters.
 pub(super) fn decode(
     setup: &Capture,
     stripes: &Stripes,
@@ -185,7 +186,7 @@ pub(super) fn decode(
     };
     // the stripes' contrast left after the blur, against what the blur leaves on a smooth
     // surface (which the SNR model's precision already holds)
-    let [fine, middle] = sum.phasor.map(|[cos, sin]| cos.hypot(sin));
+    let fine = sum.phasor[0][0].hypot(sum.phasor[0][1]);
     let contrast = (fine / sum.amplitude / smooth).min(1.0);
     let snr = if snr_model.is_on() {
         let read = snr_model.read_electrons * snr_model.read_electrons;
@@ -198,11 +199,13 @@ pub(super) fn decode(
     } else {
         sum.amplitude
     };
-    // a pixel the blur of a highlight saturates, or a filter removes, has no point
+    // a pixel the blur of a highlight saturates, or a filter removes, has no point (the
+    // finest stripes' modulation against the coarsest pattern's shows the pixel's own light)
+    let direct = (fine / smooth / sum.coarse).min(1.0);
     let reflection = &filters.reflection.removal;
     if sensor.filters_out(snr)
         || sensor.noise.specular.saturates(intensity)
-        || reflection.removes(middle_off.max(fine_off), fine / smooth / middle)
+        || reflection.removes(middle_off.max(fine_off), direct)
     {
         return out;
     }
@@ -237,6 +240,7 @@ pub(super) fn decode(
         snr,
         intensity,
         rgb: px.rgb,
+        indirect: ((1.0 - direct) * 255.0).round() as u8,
         ..seen
     }
 }

@@ -1,17 +1,24 @@
-//! Zivid's point-cloud filters on an organized scan (`Processing.Filters`): noise suppression
-//! and repair, outlier, hole and cluster filters and Gaussian smoothing. The noise and reflection filters act where each pixel is
-//! decoded.
+//! Zivid's point-cloud filters on an organized scan (`Processing.Filters`): the reflection
+//! filter's test over the frame, noise suppression and repair, outlier, hole and cluster
+//! filters and Gaussian smoothing. The noise filter and the reflection filter's tests of each
+//! pixel's light act where the pixel is decoded.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::{Pixel, Scan, Window, gaussian, reach};
-use crate::spec::{SensorSpec, Suppression};
+use crate::spec::{Frustum, SensorSpec, Suppression};
 
-/// Applies the enabled filters of `sensor`'s processing to the pixels of `window`: the noise
-/// filter's suppression and repair first, then outliers, holes, clusters and smoothing.
+/// Applies the enabled filters of `sensor`'s processing to the pixels of `window`: the global
+/// reflection filter's shadowing points, the noise filter's suppression and repair, then
+/// outliers, holes, clusters and smoothing.
 pub(super) fn filter(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
     let filters = &sensor.processing.filters;
+    if let Some(projector) = sensor.projector()
+        && filters.reflection.removal.removes_shadowing()
+    {
+        remove_shadowing(scan, window, &projector.frustum(), sensor.intrinsics.fx);
+    }
     if filters.noise.suppression.enabled && sensor.noise.snr.is_on() {
         suppress_noise(scan, window, sensor);
     }
@@ -147,6 +154,88 @@ fn repair_noise(scan: &mut Scan, window: &Window, sensor: &SensorSpec) {
                 px.point = dir * (z / dir.z);
             }
         });
+}
+
+/// How far behind a point another must lie on its ray of the projector's light for the point
+/// to shadow it, m: beyond the range noise of the least SNR the noise filter keeps (assumed).
+const SHADOWED: f32 = 0.005;
+
+/// The share of a pixel's light from other surfaces (of 255) above which its point can be
+/// one they made, and the shadowing test applies (assumed).
+const FROM_ELSEWHERE: u8 = 25;
+
+/// Removes the points of `window` whose light shows other surfaces' (more than
+/// [`FROM_ELSEWHERE`]) and that lie in front of another point on the same ray of the
+/// projector's light (`frustum`), by more than [`SHADOWED`]: had their surface been there, it
+/// would have shadowed the other, which the projector lit. The rays are the cells of a grid
+/// over the projector's field a camera pixel wide (the camera's focal length `fx`), each
+/// point tested against the farthest point of its cell and the eight around it.
+fn remove_shadowing(scan: &mut Scan, window: &Window, frustum: &Frustum, fx: f64) {
+    let fx = fx as f32;
+    let (half_w, half_h) = (frustum.half_width(), frustum.half_height());
+    let [cols, rows] = [half_w, half_h].map(|half| (2.0 * half * fx).ceil() as usize + 1);
+    // each point's cell and depth from the projector, row by row, and apart the points that
+    // may be other surfaces' light
+    let stride = scan.width as usize;
+    type Located = (Vec<(u32, f32, bool)>, Vec<(usize, usize, f32)>);
+    let located: Vec<Located> = scan.pixels[window.rows.start * stride..window.rows.end * stride]
+        .par_chunks(stride)
+        .enumerate()
+        .map(|(r, line)| {
+            let start = (window.rows.start + r) * stride + window.cols.start;
+            let (mut points, mut mixed) = (Vec::with_capacity(window.cols.len()), Vec::new());
+            for (c, px) in line[window.cols.clone()].iter().enumerate() {
+                if !px.is_valid() {
+                    continue;
+                }
+                let [column, row, depth] = frustum.locate(px.point);
+                // the nearest cell (half a cell up, then truncated: no call to `round`)
+                let [u, v] = [(column + half_w) * fx + 0.5, (row + half_h) * fx + 0.5];
+                if u >= 0.0 && v >= 0.0 && (u as usize) < cols && (v as usize) < rows {
+                    let cell = v as usize * cols + u as usize;
+                    let own = px.indirect <= FROM_ELSEWHERE;
+                    points.push((cell as u32, depth, own));
+                    if !own {
+                        mixed.push((start + c, cell, depth));
+                    }
+                }
+            }
+            (points, mixed)
+        })
+        .collect();
+    let mixed: Vec<(usize, usize, f32)> =
+        located.iter().flat_map(|l| l.1.iter().copied()).collect();
+    if mixed.is_empty() {
+        return;
+    }
+    // of each cell, the farthest point, and the nearest and farthest of those whose light is
+    // their own
+    let mut span = vec![[f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY]; rows * cols];
+    for &(cell, depth, own) in located.iter().flat_map(|l| &l.0) {
+        let [far, near_own, far_own] = &mut span[cell as usize];
+        *far = far.max(depth);
+        if own {
+            (*near_own, *far_own) = (near_own.min(depth), far_own.max(depth));
+        }
+    }
+    let shadowing: Vec<usize> = mixed
+        .par_iter()
+        .filter(|&&(_, cell, depth)| {
+            let (r, c) = (cell / cols, cell % cols);
+            reach(r, 1, rows)
+                .flat_map(|rr| reach(c, 1, cols).map(move |cc| rr * cols + cc))
+                .any(|j| {
+                    let [far, near_own, far_own] = span[j];
+                    far > depth + SHADOWED
+                        || near_own < depth - SHADOWED
+                        || far_own > depth + SHADOWED
+                })
+        })
+        .map(|m| m.0)
+        .collect();
+    for i in shadowing {
+        scan.pixels[i].point = Vec3::NAN;
+    }
 }
 
 /// Removes the points none of whose 8 neighbours lies within `threshold` metres.

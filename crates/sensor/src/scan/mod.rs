@@ -64,6 +64,10 @@ pub struct Pixel {
     /// Share of rust on the surface the centre ray meets, 0..255 for 0..1 (0 where it meets
     /// none): a byte, which keeps a pixel within 60 bytes.
     pub wear: u8,
+    /// Share of the light the pixel decoded that came from other surfaces (mirrored, bounced
+    /// or blurred in), as its patterns show it (the finest stripes' modulation against the
+    /// coarsest pattern's), 0..255 for 0..1: 0 where all of it is its own surface's.
+    pub indirect: u8,
 }
 
 impl Pixel {
@@ -79,6 +83,7 @@ impl Pixel {
         snr: 0.0,
         incidence: f32::NAN,
         wear: 0,
+        indirect: 0,
     };
 
     /// Whether the sensor returned a point.

@@ -82,6 +82,17 @@ impl Frustum {
         q.dot(self.x_axis) / q.dot(self.z_axis)
     }
 
+    /// The projector column and row that light camera-frame point `p`, each as the tangent of
+    /// its angle from the projector's axis (±`half_width`, ±`half_height` at the field's edges),
+    /// and its distance from the projector along its axis.
+    #[inline]
+    pub fn locate(&self, p: Vec3) -> [f32; 3] {
+        let q = p - self.centre;
+        let depth = q.dot(self.z_axis);
+        let inverse = depth.recip();
+        [q.dot(self.x_axis) * inverse, q.y * inverse, depth]
+    }
+
     /// The distance of camera-frame point `p` from the projector along its axis.
     #[inline]
     pub fn depth(&self, p: Vec3) -> f32 {
@@ -91,6 +102,11 @@ impl Frustum {
     /// The tangent of half the projector's horizontal field.
     pub fn half_width(&self) -> f32 {
         self.tan_x
+    }
+
+    /// The tangent of half the projector's vertical field.
+    pub fn half_height(&self) -> f32 {
+        self.tan_y
     }
 
     /// The distance along camera ray `dir` (from the camera's centre) to the plane of light of

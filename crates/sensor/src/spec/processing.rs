@@ -199,39 +199,48 @@ pub struct ReflectionRemoval {
 }
 
 /// `Processing.Filters.Reflection.Removal.Mode`. Zivid describes what each mode keeps, not its
-/// test; the tests here are assumed, each chosen to behave as Zivid describes its mode.
+/// tests; those here key on what the patterns show of light from elsewhere and on where the
+/// points lie, at thresholds assumed so that each mode behaves as Zivid describes it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ReflectionMode {
-    /// Zivid's default: a point goes where a pattern's column and the coarser pattern's
-    /// disagree by more than a quarter of the finer pattern's period (the patterns'
-    /// unwrapping, over the whole field).
+    /// Zivid's default, over the whole frame: a point goes where light from elsewhere is
+    /// more than half of what its pixel receives, or where it lies in front of another point
+    /// on the same ray of the projector's light (had its surface been there, it would have
+    /// shadowed the other, which the projector lit). A ghost floating before the surfaces the
+    /// projector lights behind it goes; one with nothing measured behind it stays (Zivid: a
+    /// smaller ghost plane), and so does the true surface.
     #[default]
     Global,
-    /// The global test, and a point also goes where the finest and the middle pattern keep
-    /// shares of their modulation more than a quarter apart (each pixel's patterns against each
-    /// other): light from two columns, or blurred by a mirror's lobe, weakens the finer stripes
-    /// more. It finds the ghosts whose column unwraps to the right period, which the global
-    /// test keeps (Zivid: local mode leaves no ghost plane where global leaves a smaller one),
-    /// and removes more of a mixed surface's points. What Zivid says it keeps better (thin and
-    /// pointy objects) is not modelled.
+    /// Each pixel on its own: a point goes where more than a quarter of its light comes from
+    /// elsewhere, or where its patterns' unwrapping is ambiguous. It removes the ghost plane,
+    /// and with it more of a mirroring surface's points (Zivid: no ghost plane). What Zivid
+    /// says it keeps better (thin and pointy objects) is not modelled.
     Local,
 }
 
 impl ReflectionRemoval {
     /// Whether the filter removes a point whose patterns' columns disagree by `mismatch`
-    /// periods (0 to 0.5) and whose finest and middle pattern keep `modulation` (finest over
-    /// middle, 1 for a single surface's light).
+    /// periods (0 to 0.5: how far the coarser pattern's column falls from the finer one's
+    /// nearest solution, the ambiguity of the unwrapping) and whose own surface sends `direct`
+    /// of its light (0 to 1). A camera sees the latter as the finest stripes' modulation
+    /// against the coarsest pattern's: light from elsewhere arrives blurred (by a mirror's
+    /// lobe, a bounce, the lens) and brings the coarse pattern without the finest stripes, as
+    /// in the separation of direct and global light by high-frequency patterns.
     #[inline]
-    pub fn removes(&self, mismatch: f32, modulation: f32) -> bool {
-        const TOLERANCE: f32 = 0.25;
+    pub fn removes(&self, mismatch: f32, direct: f32) -> bool {
+        const AMBIGUOUS: f32 = 0.25;
         self.enabled
             && match self.mode {
-                ReflectionMode::Global => mismatch > TOLERANCE,
-                ReflectionMode::Local => {
-                    mismatch > TOLERANCE || (modulation - 1.0).abs() > TOLERANCE
-                }
+                ReflectionMode::Global => direct < 0.5,
+                ReflectionMode::Local => mismatch > AMBIGUOUS || direct < 0.75,
             }
+    }
+
+    /// Whether the filter also removes the points lying in front of another point on the
+    /// same ray of the projector's light (the global mode's test over the frame).
+    pub fn removes_shadowing(&self) -> bool {
+        self.enabled && self.mode == ReflectionMode::Global
     }
 }
 

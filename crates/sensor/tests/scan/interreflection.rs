@@ -21,13 +21,17 @@ fn steel(lobe: f32) -> Material {
 /// of the camera, `angle` degrees apart: an inside corner facing the camera, or a ridge (its
 /// edge towards the camera) when `ridge`.
 fn corner(angle: f32, material: Material, ridge: bool) -> World {
-    World::new(&walls(angle, material, ridge))
+    World::new(&walls(angle, material, ridge, CORNER))
 }
 
-/// The walls of [`corner`], classes 1 and 2.
-fn walls(angle: f32, material: Material, ridge: bool) -> [Target; 2] {
+/// The distance of [`corner`]'s edge from the camera and its walls' depth, m.
+const CORNER: [f32; 2] = [0.65, 0.12];
+
+/// The walls of [`corner`], classes 1 and 2, their edge `z` metres from the camera and each
+/// `depth` metres deep.
+fn walls(angle: f32, material: Material, ridge: bool, [z, depth]: [f32; 2]) -> [Target; 2] {
     let half = (0.5 * angle).to_radians();
-    let (z, depth, height) = (0.65, 0.12, Vec3::Y * 0.15);
+    let height = Vec3::Y * 0.15;
     let (edge, back) = if ridge {
         (Vec3::new(0.0, 0.0, z - depth * half.cos()), 1.0)
     } else {
@@ -135,69 +139,94 @@ fn the_mirrored_light_pulls_by_its_strength_and_sharpness() {
     assert!(blurred < strong, "lobe 0.3: {blurred}, 0.03: {strong}");
 }
 
-/// Zivid's reflection filter in `mode`.
-fn filtered(mut spec: SensorSpec, mode: ReflectionMode) -> SensorSpec {
+/// Zivid's reflection filter in `mode`, or off.
+fn filtered(mut spec: SensorSpec, mode: Option<ReflectionMode>) -> SensorSpec {
     spec.processing.filters.reflection.removal = ReflectionRemoval {
-        enabled: true,
-        mode,
+        enabled: mode.is_some(),
+        mode: mode.unwrap_or_default(),
     };
     spec
 }
 
-/// The points of `scan` more than 2 cm off their pixel's surface.
-fn ghosts(scan: &Scan) -> usize {
-    scan.pixels
-        .iter()
-        .filter(|p| p.is_valid() && p.point.distance(p.clean) > 0.02)
-        .count()
+/// Of the points of `scan` whose surface lies `from` to `to` metres from the edge of a corner
+/// `z` metres away, those within 5 mm of it (the surface) and those further (ghosts).
+fn surface_and_ghosts(scan: &Scan, z: f32, [from, to]: [f32; 2]) -> [usize; 2] {
+    let mut counts = [0; 2];
+    for p in scan.pixels.iter().filter(|p| p.is_valid()) {
+        if (from..to).contains(&p.clean.x.hypot(p.clean.z - z)) {
+            counts[usize::from(p.point.distance(p.clean) > 0.005)] += 1;
+        }
+    }
+    counts
 }
 
 #[test]
-fn the_reflection_filter_removes_what_mirrored_light_decoded() {
-    let world = corner(90.0, steel(0.05), false);
-    let (raw, off) = on_and_off(&world, &mirroring(true), 9);
-    let before = ghosts(&raw);
+fn the_reflection_filter_removes_the_ghost_plane_and_keeps_the_surface() {
+    // a stainless groove at the Zivid 2+ M60's focus: walls 20 cm deep meeting at 90°, 0.6 m
+    // from the camera, with interreflection
+    let (z, everywhere, plane) = (0.6, [0.0, 1.0], [0.05, 0.1]);
+    let world = World::new(&walls(90.0, materials::STAINLESS_STEEL, false, [z, 0.2]));
+    let mut m60 = SensorSpec::preset("zivid-2plus-m60").unwrap();
+    m60.noise.interreflection.enabled = true;
+    let pose = Affine3A::IDENTITY;
+    let raw = scan(&world, &filtered(m60.clone(), None), &pose, 3);
+    let [surface, ghosts] = surface_and_ghosts(&raw, z, everywhere);
+    // unfiltered, ghosts float over the groove: over half the points 5-10 cm from the edge
+    let [near, floating] = surface_and_ghosts(&raw, z, plane);
+    eprintln!(
+        "unfiltered: {surface} on the surface, {ghosts} ghosts; 5-10 cm from the edge {near} and {floating}"
+    );
+    assert!(ghosts > surface / 5 && floating > near / 2);
     let mut left = vec![];
     for mode in [ReflectionMode::Global, ReflectionMode::Local] {
-        let kept = scan(
-            &world,
-            &filtered(mirroring(true), mode),
-            &Affine3A::IDENTITY,
-            9,
-        );
-        let after = ghosts(&kept);
+        let kept = scan(&world, &filtered(m60.clone(), Some(mode)), &pose, 3);
+        let [s, g] = surface_and_ghosts(&kept, z, everywhere);
+        let [near, floating] = surface_and_ghosts(&kept, z, plane);
         eprintln!(
-            "{mode:?}: {after} of {before} ghosts left, {} of {} points",
-            kept.valid_count(),
-            off.valid_count()
+            "{mode:?}: {s} on the surface, {g} ghosts; 5-10 cm from the edge {near} and {floating}"
         );
-        assert!(
-            after * 5 < before,
-            "{mode:?}: {after} of {before} ghosts left"
-        );
-        assert!(kept.valid_count() > off.valid_count() / 4, "{mode:?}");
-        // the points it keeps are as they were
+        // it only removes points (the noise filter's suppression then averages a few
+        // neighbours less)
         for (r, k) in raw.pixels.iter().zip(&kept.pixels) {
-            assert!(!k.is_valid() || r == k);
+            assert!(
+                !k.is_valid() || r.point.distance(k.point) < 1e-3,
+                "{mode:?}"
+            );
         }
-        left.push(after);
-        // where each pixel's light is its own surface's, it removes nothing
+        // no ghost plane over the groove: under a twentieth of the points 5-10 cm from the edge
+        assert!(
+            floating * 20 < near,
+            "{mode:?}: {floating} ghosts, {near} on the surface"
+        );
+        left.push([s, g]);
+    }
+    let [
+        [global_surface, global_ghosts],
+        [local_surface, local_ghosts],
+    ] = left[..]
+    else {
+        unreachable!()
+    };
+    // the global mode keeps nine tenths of the surface and leaves a smaller ghost plane
+    assert!(
+        global_surface * 10 > surface * 9,
+        "{global_surface} of {surface}"
+    );
+    assert!(global_ghosts * 2 < ghosts, "{global_ghosts} of {ghosts}");
+    // the local mode leaves no ghost, and more of the surface goes with them
+    assert!(local_ghosts * 100 < ghosts, "{local_ghosts} of {ghosts}");
+    assert!(local_surface < global_surface && local_surface * 2 > surface);
+    // where each pixel's light is its own surface's, neither removes anything
+    for mode in [ReflectionMode::Global, ReflectionMode::Local] {
         let plane = World::new(&[facing_plane(0.6)]);
         let matte = corner(90.0, materials::MATTE_GREY, false);
         for world in [plane, matte] {
             let spec = mirroring(true);
-            let unfiltered = scan(&world, &spec, &Affine3A::IDENTITY, 9);
-            let kept = scan(&world, &filtered(spec, mode), &Affine3A::IDENTITY, 9);
+            let unfiltered = scan(&world, &spec, &pose, 9);
+            let kept = scan(&world, &filtered(spec, Some(mode)), &pose, 9);
             assert_eq!(bits(&kept), bits(&unfiltered), "{mode:?}");
         }
     }
-    // the local test also finds the ghosts that unwrap to the right period
-    assert!(
-        left[1] * 2 < left[0],
-        "global leaves {}, local {}",
-        left[0],
-        left[1]
-    );
 }
 
 #[test]
@@ -213,7 +242,7 @@ fn shiny_surfaces_in_the_projectors_shadow_mirror_lit_ones() {
             3,
         );
         post.material = materials::MATTE_GREY;
-        let [left, right] = walls(90.0, material, false);
+        let [left, right] = walls(90.0, material, false, CORNER);
         World::new(&[left, right, post])
     };
     let pose = Affine3A::IDENTITY;

@@ -125,6 +125,23 @@ pub fn bits_of(p: &Pixel) -> Vec<u32> {
             u32::from_le_bytes([p.rgb[0], p.rgb[1], p.rgb[2], 0]),
             p.snr.to_bits(),
             p.incidence.to_bits(),
+            u32::from_le_bytes([p.wear, p.indirect, 0, 0]),
         ])
+        .collect()
+}
+
+/// A plane facing the camera at depth `z`, of `reflectivity`.
+pub fn plane(z: f32, reflectivity: f32) -> World {
+    let mut p = facing_plane(z);
+    p.material.reflectivity = reflectivity;
+    World::new(&[p])
+}
+
+/// Depth errors (camera z) of the valid pixels, each divided by `sigma(pixel)`.
+pub fn z_scores(s: &Scan, sigma: impl Fn(&Pixel) -> f64) -> Vec<f64> {
+    s.pixels
+        .iter()
+        .filter(|p| p.is_valid())
+        .map(|p| (p.point.z - p.clean.z) as f64 / sigma(p))
         .collect()
 }

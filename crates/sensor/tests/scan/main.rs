@@ -1,6 +1,8 @@
 //! Scans of analytic scenes, one module a topic.
 
 mod colour;
+mod edges;
+mod filters;
 mod geometry;
 mod interreflection;
 mod kit;
