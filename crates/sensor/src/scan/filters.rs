@@ -165,11 +165,12 @@ const SHADOWED: f32 = 0.005;
 const FROM_ELSEWHERE: u8 = 25;
 
 /// Removes the points of `window` whose light shows other surfaces' (more than
-/// [`FROM_ELSEWHERE`]) and that lie in front of another point on the same ray of the
-/// projector's light (`frustum`), by more than [`SHADOWED`]: had their surface been there, it
-/// would have shadowed the other, which the projector lit. The rays are the cells of a grid
-/// over the projector's field a camera pixel wide (the camera's focal length `fx`), each
-/// point tested against the farthest point of its cell and the eight around it.
+/// [`FROM_ELSEWHERE`]) and that lie, by more than [`SHADOWED`], in front of another point on
+/// the same ray of the projector's light (`frustum`), or behind one whose light is its own:
+/// had their surface been there, it would have shadowed the other, which the projector lit,
+/// or lain in its shadow. The rays are the cells of a grid over the projector's field a camera
+/// pixel wide (the camera's focal length `fx`), each point tested against the farthest point
+/// of its cell and the eight around it, and the nearest of those whose light is their own.
 fn remove_shadowing(scan: &mut Scan, window: &Window, frustum: &Frustum, fx: f64) {
     let fx = fx as f32;
     let (half_w, half_h) = (frustum.half_width(), frustum.half_height());
@@ -208,14 +209,13 @@ fn remove_shadowing(scan: &mut Scan, window: &Window, frustum: &Frustum, fx: f64
     if mixed.is_empty() {
         return;
     }
-    // of each cell, the farthest point, and the nearest and farthest of those whose light is
-    // their own
-    let mut span = vec![[f32::NEG_INFINITY, f32::INFINITY, f32::NEG_INFINITY]; rows * cols];
+    // of each cell, the farthest point and the nearest of those whose light is their own
+    let mut span = vec![[f32::NEG_INFINITY, f32::INFINITY]; rows * cols];
     for &(cell, depth, own) in located.iter().flat_map(|l| &l.0) {
-        let [far, near_own, far_own] = &mut span[cell as usize];
+        let [far, near_own] = &mut span[cell as usize];
         *far = far.max(depth);
         if own {
-            (*near_own, *far_own) = (near_own.min(depth), far_own.max(depth));
+            *near_own = near_own.min(depth);
         }
     }
     let shadowing: Vec<usize> = mixed
@@ -225,10 +225,8 @@ fn remove_shadowing(scan: &mut Scan, window: &Window, frustum: &Frustum, fx: f64
             reach(r, 1, rows)
                 .flat_map(|rr| reach(c, 1, cols).map(move |cc| rr * cols + cc))
                 .any(|j| {
-                    let [far, near_own, far_own] = span[j];
-                    far > depth + SHADOWED
-                        || near_own < depth - SHADOWED
-                        || far_own > depth + SHADOWED
+                    let [far, near_own] = span[j];
+                    far > depth + SHADOWED || near_own < depth - SHADOWED
                 })
         })
         .map(|m| m.0)

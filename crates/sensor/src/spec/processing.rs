@@ -205,11 +205,12 @@ pub struct ReflectionRemoval {
 #[serde(rename_all = "lowercase")]
 pub enum ReflectionMode {
     /// Zivid's default, over the whole frame: a point goes where light from elsewhere is
-    /// more than half of what its pixel receives, or where it lies in front of another point
-    /// on the same ray of the projector's light (had its surface been there, it would have
-    /// shadowed the other, which the projector lit). A ghost floating before the surfaces the
-    /// projector lights behind it goes; one with nothing measured behind it stays (Zivid: a
-    /// smaller ghost plane), and so does the true surface.
+    /// more than half of what its pixel receives, or where its light shows other surfaces'
+    /// and it lies in front of another point on the same ray of the projector's light, or
+    /// behind one whose light is its own (had its surface been there, it would have shadowed
+    /// the other, which the projector lit, or lain in its shadow). A ghost floating before the
+    /// surfaces the projector lights behind it goes; one with nothing measured on its ray
+    /// stays (Zivid: a smaller ghost plane), and so does the true surface.
     #[default]
     Global,
     /// Each pixel on its own: a point goes where more than a quarter of its light comes from
@@ -237,8 +238,8 @@ impl ReflectionRemoval {
             }
     }
 
-    /// Whether the filter also removes the points lying in front of another point on the
-    /// same ray of the projector's light (the global mode's test over the frame).
+    /// Whether the filter also removes the points of mixed light that a point on the same ray
+    /// of the projector's light contradicts (the global mode's test over the frame).
     pub fn removes_shadowing(&self) -> bool {
         self.enabled && self.mode == ReflectionMode::Global
     }
