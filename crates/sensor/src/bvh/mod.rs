@@ -155,6 +155,9 @@ impl Bvh {
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [[Option<Hit>; 4]; G] {
+        if idle(t_max) {
+            return [[None; 4]; G];
+        }
         let none = Hit {
             t: 0.0,
             triangle: u32::MAX,
@@ -225,8 +228,11 @@ impl Bvh {
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [[bool; 4]; G] {
-        let rays = Rays4::packet(origins, dirs, t_max);
         let mut blocked = [[false; 4]; G];
+        if idle(t_max) {
+            return blocked;
+        }
+        let rays = Rays4::packet(origins, dirs, t_max);
         self.walk(&rays, t_max, |g, mask, slot, reach| {
             let blocked = &mut blocked[g];
             rays[g].hits(&self.tris[slot as usize], mask, t_max[g], |lane, _| {
@@ -251,4 +257,9 @@ impl Bvh {
         });
         (nodes, leaves)
     }
+}
+
+/// Whether every lane of a packet is idle (`t_max <= 0`): nothing to set up or walk.
+fn idle<const G: usize>(t_max: &[[f32; 4]; G]) -> bool {
+    t_max.iter().flatten().all(|&t| t <= 0.0)
 }

@@ -76,7 +76,8 @@ impl Frame<'_> {
                 let mut dirs = [[Vec3::Z; TILE]; TILE];
                 let mut t_max = [[0.0f32; TILE]; TILE];
                 let mut rngs = [[PixelRng::new(0, 0); TILE]; TILE];
-                for (r, c) in lanes::<TILE>() {
+                for (g, lane) in lanes::<TILE>() {
+                    let (r, c) = tile_pixel(g, lane);
                     let col = left + c;
                     // past the frame's edge, or a pixel that sees its surface once: an idle lane
                     if r >= rows || col >= width || (s > 0 && !traces[r * width + col]) {
@@ -84,25 +85,29 @@ impl Frame<'_> {
                     }
                     let index = ((top + r) * width + col) as u64;
                     let rng = PixelRng::new(settings.seed, index * 65536 + u64::from(s));
-                    rngs[r][c] = rng;
+                    rngs[g][lane] = rng;
                     let (u, v) = (
                         col as f64 - 0.5 + f64::from(rng.uniform(0)),
                         (top + r) as f64 - 0.5 + f64::from(rng.uniform(1)),
                     );
                     let (origin, dir) = camera_ray(self.rays.ray(u, v), settings, self.motion, rng);
-                    origins[r][c] = self.pose.transform_point3(origin);
-                    dirs[r][c] = self.pose.transform_vector3(dir).normalize();
-                    t_max[r][c] = f32::INFINITY;
+                    origins[g][lane] = self.pose.transform_point3(origin);
+                    dirs[g][lane] = self.pose.transform_vector3(dir).normalize();
+                    t_max[g][lane] = f32::INFINITY;
                 }
                 let hits = world.bvh().cast_packet(&origins, &dirs, &t_max);
-                for (r, c) in lanes::<TILE>() {
-                    if t_max[r][c] == 0.0 {
+                for (g, lane) in lanes::<TILE>() {
+                    if t_max[g][lane] == 0.0 {
                         continue;
                     }
-                    let (origin, dir, i) = (origins[r][c], dirs[r][c], r * width + left + c);
-                    let first = hits[r][c].map(|h| world.surface(&h, origin, dir));
-                    let (radiance, guide) =
-                        self.scene.path(origin, dir, first, traces[i], rngs[r][c]);
+                    let (r, c) = tile_pixel(g, lane);
+                    let (origin, dir, i) = (origins[g][lane], dirs[g][lane], r * width + left + c);
+                    let first = hits[g][lane].map(|h| world.surface(&h, origin, dir));
+                    let (radiance, guide) = if traces[i] {
+                        self.scene.path(origin, dir, first, rngs[g][lane])
+                    } else {
+                        self.scene.seen(origin, dir, first)
+                    };
                     sums[r][c] += radiance;
                     if s == 0 && settings.denoise {
                         guides[i] = guide;
@@ -118,6 +123,13 @@ impl Frame<'_> {
             }
         }
     }
+}
+
+/// The pixel (row, column in the tile) of lane `lane` of group `g`: each group of four lanes
+/// a 2×2 square, whose rays run closer together than a row's.
+#[inline]
+fn tile_pixel(g: usize, lane: usize) -> (usize, usize) {
+    (2 * (g / 2) + lane / 2, 2 * (g % 2) + lane % 2)
 }
 
 /// A camera ray in the camera's frame for the pinhole ray `pinhole` (unit): from a point of a

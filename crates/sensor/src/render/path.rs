@@ -18,15 +18,45 @@ pub(super) struct Scene<'a> {
 }
 
 impl Scene<'_> {
+    /// What a camera ray from `origin` along `dir` that meets `first` sees without tracing
+    /// light: the light it meets before any surface (a lamp, or the surroundings where it
+    /// meets none), and what its first surface shows the denoiser. A path's first vertex
+    /// gets the same ([`Scene::path`]).
+    pub(super) fn seen(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        first: Option<SurfaceHit>,
+    ) -> (Vec3, Option<Guide>) {
+        let t_max = first.map_or(f32::INFINITY, |h| h.t);
+        if let Some((emitted, _)) = self.lamp(origin, dir, t_max) {
+            return (emitted, None);
+        }
+        let Some(hit) = first else {
+            return (self.environment, None);
+        };
+        let guide = Bsdf::new(&hit.material, hit.normal, -dir)
+            .map(|bsdf| guide_of(&bsdf, &hit, origin + dir * hit.t));
+        (Vec3::ZERO, guide)
+    }
+
+    /// The nearest lamp the ray from `origin` along `dir` meets within `t_max`: its radiance
+    /// and the pdf of sampling that point of it.
+    fn lamp(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<(Vec3, f32)> {
+        self.emitters
+            .iter()
+            .filter_map(|e| e.hit(origin, dir, t_max))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, emitted, pdf)| (emitted, pdf))
+    }
+
     /// The light one path from `origin` along `dir`, whose ray meets `first`, brings back,
-    /// and what its first surface shows the denoiser; without `shade`, only the light its ray
-    /// meets before any surface (a lamp or the surroundings): the path ends at the surface.
+    /// and what its first surface shows the denoiser.
     pub(super) fn path(
         &self,
         mut origin: Vec3,
         mut dir: Vec3,
         first: Option<SurfaceHit>,
-        shade: bool,
         rng: PixelRng,
     ) -> (Vec3, Option<Guide>) {
         let mut radiance = Vec3::ZERO;
@@ -46,12 +76,7 @@ impl Scene<'_> {
                 hit = self.world.cast(origin, dir, f32::INFINITY);
             }
             let t_max = hit.map_or(f32::INFINITY, |h| h.t);
-            if let Some((_, emitted, light_pdf)) = self
-                .emitters
-                .iter()
-                .filter_map(|e| e.hit(origin, dir, t_max))
-                .min_by(|a, b| a.0.total_cmp(&b.0))
-            {
+            if let Some((emitted, light_pdf)) = self.lamp(origin, dir, t_max) {
                 let weight = bsdf_pdf.map_or(1.0, |p| power_heuristic(p, light_pdf));
                 radiance += throughput * emitted * weight;
                 break;
@@ -69,15 +94,7 @@ impl Scene<'_> {
                 break;
             };
             if vertex == 0 {
-                guide = Some(Guide {
-                    albedo: bsdf.albedo(),
-                    normal: hit.normal,
-                    point: x,
-                    distance: hit.t,
-                });
-                if !shade {
-                    break;
-                }
+                guide = Some(guide_of(&bsdf, &hit, x));
             }
             let lift = x + hit.normal * EPSILON;
             for (k, emitter) in self.emitters.iter().enumerate() {
@@ -110,6 +127,16 @@ impl Scene<'_> {
             dir = sampled.wi;
         }
         (radiance, guide)
+    }
+}
+
+/// What a camera ray's first surface, `hit` at `point`, shows the denoiser.
+fn guide_of(bsdf: &Bsdf, hit: &SurfaceHit, point: Vec3) -> Guide {
+    Guide {
+        albedo: bsdf.albedo(),
+        normal: hit.normal,
+        point,
+        distance: hit.t,
     }
 }
 
