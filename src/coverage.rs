@@ -10,7 +10,7 @@ use scene::coverage::Rule;
 use scene::sample::matrix;
 use scene::{Clamping, Dataset, Shard, Station};
 use sensor::PointCloud;
-use sensor::formats::{CloudFormat, write_npy_i32};
+use sensor::formats::{CloudFormat, write_npy_i32, write_surface_ply};
 
 use crate::error::{CliError, CliResult, choice};
 use crate::generate::{config_table, scene_error};
@@ -116,7 +116,7 @@ impl CoverageCmd {
             instance: s.instances.clone(),
             wear: vec![0.0; s.len()],
         };
-        save("surface.ply", &|w| CloudFormat::Ply.write(w, &surface))?;
+        save("surface.ply", &|w| write_surface_ply(w, &surface))?;
         save("first_view.npy", &|w| write_npy_i32(w, &first_view))?;
         for (k, cloud) in station.clouds.iter().enumerate() {
             save(&format!("view_{k}.ply"), &|w| {

@@ -1205,6 +1205,15 @@ fn coverage_writes_the_share_seen_per_view_and_per_sample() {
         first.len() as u64,
         json["surface"]["samples"].as_u64().unwrap()
     );
+    // the surface samples' PLY: positions, normals, colour and labels, no measurement fields
+    let ply = std::fs::read(out.join("surface.ply")).unwrap();
+    let end = ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let header = std::str::from_utf8(&ply[..end]).unwrap();
+    assert!(header.contains("property uint16 class\nproperty int instance\nend_header"));
+    for unmeasured in ["intensity", "snr", "wear"] {
+        assert!(!header.contains(unmeasured), "{header}");
+    }
+    assert_eq!(ply.len() - end, 33 * first.len());
     let views = json["views"].as_array().unwrap();
     assert_eq!(views.len(), 3);
     let mut last = 0.0;

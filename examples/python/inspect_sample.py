@@ -43,8 +43,13 @@ def main() -> None:
     left.scatter(xyz[order, 0], xyz[order, 1], c=label[order], s=0.2, cmap="tab10",
                  vmin=0, vmax=9)
     left.set_aspect("equal")
-    left.set_title(f"sample {args.index} from above, by label ({', '.join(gen.classes[1:])})",
-                   fontsize=8)
+    left.set_title(f"sample {args.index} from above, by label", fontsize=8)
+    # a legend of the classes present, in the scatter's colours
+    colours = plt.get_cmap("tab10")
+    handles = [plt.Line2D([], [], marker="o", linestyle="", color=colours(c / 9), label=gen.classes[c])
+               for c in np.unique(label)]
+    left.legend(handles=handles, fontsize=7, markerscale=1.5, loc="upper right")
+    print(f"legend: {', '.join(h.get_label() for h in handles)}")
     image = right.imshow(scan.depth, cmap="viridis")
     right.set_title("scan depth (m)")
     fig.colorbar(image, ax=right, shrink=0.8)

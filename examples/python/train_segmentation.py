@@ -75,12 +75,16 @@ def main() -> None:
     torch.manual_seed(args.seed)
     overrides = {"sensor.sampling": args.sampling}
     classes = len(mf.Generator(args.config, overrides=overrides).classes)
+    # training: the stream of the training split only; validation: the first samples of the
+    # configuration's validation split, which the stream never yields, made once
     train = MotorStream(args.config, count=args.steps * args.batch, num_points=args.points,
-                        normalize=True, seed=args.seed, overrides=overrides)
-    # validation: the configuration's validation split, made once
+                        normalize=True, seed=args.seed, overrides=overrides, split="train")
     val = MotorDataset(args.config, split="validation", num_points=args.points, normalize=True,
                        seed=args.seed, overrides=overrides)
-    val_loader = DataLoader(torch.utils.data.Subset(val, range(min(8, len(val)))), batch_size=4)
+    held_out = val.indices[:8]
+    print(f"validation: samples {held_out}, of the validation split (training streams the "
+          f"train split's)", flush=True)
+    val_loader = DataLoader(torch.utils.data.Subset(val, range(len(held_out))), batch_size=4)
 
     model = PointNetSeg(classes)
     opt = torch.optim.Adam(model.parameters(), lr=1e-3)
@@ -102,7 +106,8 @@ def main() -> None:
     window = max(1, min(10, len(losses) // 4))
     first, last = sum(losses[:window]) / window, sum(losses[-window:]) / window
     print(f"validation mIoU {score:.3f}")
-    print(json.dumps({"first_loss": first, "last_loss": last, "miou": score, "steps": len(losses)}))
+    print(json.dumps({"first_loss": first, "last_loss": last, "miou": score, "steps": len(losses),
+                      "validation_samples": held_out}))
 
 
 if __name__ == "__main__":

@@ -43,6 +43,12 @@ def main(root, n):
         npz = np.load(f"{root}/{files['.npz']}")
         check(f"{tag} npz equals npy", np.array_equal(npz["xyz"], table[:, :3]) and np.array_equal(npz["label"], label)
               and np.allclose(npz["rgb"] / 255.0, table[:, 3:6], atol=1e-6))
+        # Open3D's tensor reader keeps the PLY's labels: the class is the npy's label
+        tensor = o3d.t.io.read_point_cloud(f"{root}/{files['.ply']}").point
+        check(f"{tag} open3d tensor ply labels", "class" in tensor and "instance" in tensor, list(tensor))
+        if "class" in tensor and "instance" in tensor:
+            check(f"{tag} open3d tensor ply class", np.array_equal(tensor["class"].numpy().ravel(), label))
+            check(f"{tag} open3d tensor ply instance", np.array_equal(tensor["instance"].numpy().ravel(), npz["instance"]))
         for ext in [".ply", ".pcd"]:
             pc = o3d.io.read_point_cloud(f"{root}/{files[ext]}")
             pts = np.asarray(pc.points)

@@ -39,7 +39,7 @@ def main(scan_dir, motor_dir):
     # the binary PLY's vertices as numpy reads them from the header's property list
     raw = open(f"{scan_dir}/cloud.ply", "rb").read()
     header, body = raw.split(b"end_header\n", 1)
-    kinds = {"float": "<f4", "uchar": "u1", "ushort": "<u2", "uint": "<u4"}
+    kinds = {"float": "<f4", "uchar": "u1", "uint16": "<u2", "int": "<i4"}
     props = [line.split()[1:] for line in header.decode().splitlines() if line.startswith("property")]
     vertices = np.frombuffer(body, dtype=np.dtype([(name, kinds[kind]) for kind, name in props]), count=n)
     check("ply snr is the npz snr", np.array_equal(vertices["snr"], snr))
@@ -48,6 +48,14 @@ def main(scan_dir, motor_dir):
     check("npz wear float32 0..1", wear.dtype == np.float32 and wear.shape == (n,) and wear.min() >= 0 and wear.max() <= 1)
     check("ply wear is the npz wear", np.array_equal(vertices["wear"], wear))
 
+    check("ply labels are the npz labels", np.array_equal(vertices["class"], npz["label"])
+          and np.array_equal(vertices["instance"], npz["instance"]))
+    # Open3D's tensor reader keeps the labels, in the types the header declares
+    tensor = o3d.t.io.read_point_cloud(f"{scan_dir}/cloud.ply").point
+    check("open3d tensor ply labels", "class" in tensor and "instance" in tensor, list(tensor))
+    if "class" in tensor and "instance" in tensor:
+        check("open3d tensor ply class", np.array_equal(tensor["class"].numpy().ravel(), npz["label"]))
+        check("open3d tensor ply instance", np.array_equal(tensor["instance"].numpy().ravel(), npz["instance"]))
     for name in ["cloud.ply", "cloud.pcd", "cloud_ascii.pcd"]:
         pc = o3d.io.read_point_cloud(f"{scan_dir}/{name}")
         pts = np.asarray(pc.points)

@@ -632,6 +632,23 @@ impl Generator {
         out.set_item("json", json(py, &text)?)?;
         Ok(out)
     }
+
+    /// The name of the split sample `index` belongs to.
+    fn split_name(&self, index: u64) -> PyResult<&'static str> {
+        let recipe = self.dataset.recipe(index).map_err(scene_error)?;
+        Ok(recipe.placement(index).2.name())
+    }
+}
+
+/// Checks that `split` names a split a configuration assigns samples to.
+fn check_split(split: &str) -> PyResult<()> {
+    if ["train", "validation"].contains(&split) {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!(
+        "split = \"{}\" is not allowed: expected \"train\" or \"validation\"",
+        motorgen::shown(split)
+    )))
 }
 
 #[pymethods]
@@ -681,24 +698,24 @@ impl Generator {
     /// `augment.validation` share assigns them), or of every sample with `None`.
     #[pyo3(signature = (split = None))]
     fn indices(&self, py: Python<'_>, split: Option<&str>) -> PyResult<Vec<u64>> {
-        if let Some(s) = split
-            && !["train", "validation"].contains(&s)
-        {
-            return Err(PyValueError::new_err(format!(
-                "split = \"{}\" is not allowed: expected \"train\" or \"validation\"",
-                motorgen::shown(s)
-            )));
+        if let Some(s) = split {
+            check_split(s)?;
         }
         work(py, || {
             let mut out = Vec::new();
             for i in 0..self.dataset.samples {
-                let recipe = self.dataset.recipe(i).map_err(scene_error)?;
-                if split.is_none_or(|s| recipe.placement(i).2.name() == s) {
+                if split.is_none() || split == Some(self.split_name(i)?) {
                     out.push(i);
                 }
             }
             Ok(out)
         })
+    }
+
+    /// The split (`train` or `validation`) sample `index` belongs to, any index (beyond `len()`
+    /// too): what a stream of one split keeps.
+    fn split_of(&self, index: u64) -> PyResult<&'static str> {
+        self.split_name(index)
     }
 
     /// The label scheme's class names, by id.

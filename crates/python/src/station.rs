@@ -111,6 +111,12 @@ impl Station {
         self.station.taken()
     }
 
+    /// Forgets every view taken: the station as new (the same views give the same scans), its
+    /// motor, cell and surface samples kept rather than made again.
+    fn restart(&mut self) {
+        self.station.restart();
+    }
+
     /// The camera-to-world pose (4×4, OpenCV axes) of the view at `azimuth`, `elevation`,
     /// `distance`, `roll` (see `capture`).
     #[pyo3(signature = (azimuth, elevation, distance, roll = 0.0))]

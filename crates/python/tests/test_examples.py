@@ -5,6 +5,8 @@ import pathlib
 import subprocess
 import sys
 
+import motorfactory as mf
+
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 
 
@@ -21,6 +23,10 @@ def test_training_lowers_the_loss():
     assert summary["steps"] == 60
     assert summary["last_loss"] < 0.7 * summary["first_loss"], summary
     assert 0.0 <= summary["miou"] <= 1.0
+    # it validates on the validation split, which its training stream never yields
+    gen = mf.Generator("default")
+    held_out = summary["validation_samples"]
+    assert held_out and all(gen.split_of(i) == "validation" for i in held_out), held_out
 
 
 def test_inspecting_a_sample_writes_its_png(tmp_path):
@@ -29,3 +35,5 @@ def test_inspecting_a_sample_writes_its_png(tmp_path):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert (tmp_path / "motor" / "attributes.json").is_file()
     assert "points" in out
+    legend = next(line for line in out.splitlines() if line.startswith("legend: "))
+    assert "background" in legend and len(legend.split(", ")) >= 3, legend

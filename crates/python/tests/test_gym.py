@@ -2,6 +2,8 @@
 one episode, coverage that only grows, the baselines, and bad arguments."""
 
 import math
+import subprocess
+import sys
 import warnings
 
 import gymnasium as gym
@@ -31,6 +33,42 @@ def test_the_environment_passes_gymnasiums_checks():
         env.step(env.action_space.sample())
         image = env.render()
         assert image.shape == (240, 320, 3) and image.dtype == np.uint8 and image.max() > 24
+
+
+def test_gymnasium_alone_makes_the_environment_by_its_module_qualified_id():
+    # a fresh interpreter that imports nothing of motorfactory: Gymnasium imports the module
+    # the id names, which registers the environment (Gymnasium 1.x has no plugin entry points)
+    code = (
+        "import sys, gymnasium as gym\n"
+        "env = gym.make('motorfactory.gym:motorfactory/ViewPlanning-v0', num_points=64)\n"
+        "env.reset(seed=0)\n"
+        "print(type(env.unwrapped).__name__, 'motorfactory.gym' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["ViewPlanningEnv", "True"]
+
+
+def test_an_episode_on_a_kept_station_is_that_of_a_new_one():
+    def run(env, index):
+        obs, info = env.reset(seed=5, options={"index": index, "clamping": "pole-pot-up"})
+        out = [(obs["points"].copy(), info["coverage"])]
+        for action in (3, 11):
+            obs, reward, *_, info = env.step(action)
+            out.append((obs["points"].copy(), reward, info["coverage"]))
+        return out
+
+    kept = gym.make("motorfactory/ViewPlanning-v0", view_set=16, num_points=256).unwrapped
+    first = run(kept, 7)
+    station = kept.station
+    run(kept, 8)  # another motor between
+    again = run(kept, 7)
+    assert kept.station is station  # restarted, not made again
+    fresh = run(gym.make("motorfactory/ViewPlanning-v0", view_set=16, num_points=256).unwrapped, 7)
+    for a, b, c in zip(first, again, fresh):
+        for x, y, z in zip(a, b, c):
+            np.testing.assert_array_equal(x, y)
+            np.testing.assert_array_equal(x, z)
 
 
 def episode(env, seed, steps=3):

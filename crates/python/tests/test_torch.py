@@ -67,6 +67,23 @@ def test_a_stream_makes_every_sample_once_whatever_the_workers():
     np.testing.assert_array_equal(only["xyz"].numpy(), gen.sample_at(10)["xyz"])
 
 
+def test_a_split_stream_yields_only_its_split_whatever_the_workers():
+    gen = mf.Generator("default", overrides=FAST, samples=40)
+    want = {"train": [], "validation": []}
+    for i in range(40):
+        want[gen.split_of(i)].append(i)
+    assert want["train"] and want["validation"]
+    assert want["validation"] == gen.indices("validation")
+    for split in ("validation", "train"):
+        stream = MotorStream("default", count=3, num_points=64, overrides=FAST, split=split)
+        for workers in (0, 2):
+            loader = DataLoader(stream, batch_size=None, num_workers=workers)
+            got = sorted(int(s["index"]) for s in loader)
+            assert got == want[split][:3], (split, workers, got)
+    with pytest.raises(ValueError, match='split = "test" is not allowed'):
+        MotorStream("default", split="test")
+
+
 def test_collate_batches_clouds_of_any_size():
     data = MotorDataset("default", samples=4, overrides=FAST)
     items = [data[0], data[1]]

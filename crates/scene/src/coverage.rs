@@ -139,9 +139,12 @@ fn motor_world(objects: &[Object]) -> World {
     World::new(&targets)
 }
 
+/// How many directions [`exposed`] tries.
+const DIRECTION_COUNT: usize = 128;
+
 /// Directions spread evenly over the sphere (a Fibonacci lattice).
 static DIRECTIONS: LazyLock<Vec<Vec3>> = LazyLock::new(|| {
-    const N: usize = 128;
+    const N: usize = DIRECTION_COUNT;
     (0..N)
         .map(|i| {
             let z = 1.0 - (2 * i + 1) as f32 / N as f32;
@@ -160,20 +163,29 @@ static DIRECTIONS: LazyLock<Vec<Vec3>> = LazyLock::new(|| {
 /// hole and the gear container's openings show is not.
 pub fn exposed(motor: &World, p: Vec3, normal: Vec3) -> bool {
     let from = p + 1e-5 * normal;
-    let leaves = |o: Vec3, d: Vec3| motor.cast(o, d, f32::INFINITY).is_none();
-    DIRECTIONS
-        .iter()
-        .filter(|d| d.dot(normal) > 0.05)
-        .any(|&d| {
-            let (a, b) = d.any_orthonormal_pair();
-            leaves(from, d)
-                && [a, -a, b, -b].iter().all(|&o| {
-                    // beside the centre ray, from the surface's tangent plane
-                    let side = from + 5e-4 * o;
-                    let back = (side - from).dot(normal) / d.dot(normal);
-                    leaves(side - back * d, d)
-                })
-        })
+    let leaves = |o: Vec3, d: Vec3| !motor.occluded(o, d, f32::INFINITY);
+    // the directions facing out, the most outward first (where a bundle most likely leaves):
+    // the answer is the same in any order, and found sooner
+    let mut facing = [(0.0f32, Vec3::ZERO); DIRECTION_COUNT];
+    let mut count = 0;
+    for &d in DIRECTIONS.iter() {
+        let cos = d.dot(normal);
+        if cos > 0.05 {
+            facing[count] = (cos, d);
+            count += 1;
+        }
+    }
+    facing[..count].sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    facing[..count].iter().map(|&(_, d)| d).any(|d| {
+        let (a, b) = d.any_orthonormal_pair();
+        leaves(from, d)
+            && [a, -a, b, -b].iter().all(|&o| {
+                // beside the centre ray, from the surface's tangent plane
+                let side = from + 5e-4 * o;
+                let back = (side - from).dot(normal) / d.dot(normal);
+                leaves(side - back * d, d)
+            })
+    })
 }
 
 /// When a view observes a surface sample.

@@ -115,6 +115,13 @@ impl Station {
         camera_poses(camera, centre, index, &mut Seed::Camera.rng(self.seed))
     }
 
+    /// Forgets every view taken: the station as [`Station::new`] made it (the same views give
+    /// the same scans), its motor, cell, surface samples and world kept rather than made again.
+    pub fn restart(&mut self) {
+        self.seen.fill(false);
+        self.clouds.clear();
+    }
+
     /// How many views were taken.
     pub fn taken(&self) -> u32 {
         self.clouds.len() as u32
@@ -176,9 +183,7 @@ impl Station {
         let clear = |p: Vec3, n: Vec3, eye: Vec3| {
             let d = eye - p;
             let length = d.length();
-            self.world
-                .cast(p + 1e-4 * n, d / length, length - 1e-3)
-                .is_none()
+            !self.world.occluded(p + 1e-4 * n, d / length, length - 1e-3)
         };
         let new = (0..self.surface.len())
             .into_par_iter()

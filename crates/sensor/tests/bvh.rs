@@ -7,6 +7,17 @@ use sensor::shapes::grid;
 
 /// The nearest hit by testing every triangle in f64 (Möller–Trumbore with a 1e-12 tolerance).
 fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, u32)> {
+    brute_within(tris, o, d, t_max, 1e-12)
+}
+
+/// [`brute`] with a triangle's edges widened by `slack` in barycentric coordinates.
+fn brute_within(
+    tris: &[[Vec3; 3]],
+    o: Vec3,
+    d: Vec3,
+    t_max: f32,
+    slack: f64,
+) -> Option<(f32, u32)> {
     let (o, d) = (o.as_dvec3(), d.as_dvec3());
     let mut best: Option<(f64, u32)> = None;
     for (i, tri) in tris.iter().enumerate() {
@@ -22,7 +33,7 @@ fn brute(tris: &[[Vec3; 3]], o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, u32)>
         let q = s.cross(e1);
         let v = d.dot(q) / det;
         let t = e2.dot(q) / det;
-        let inside = u >= -1e-12 && v >= -1e-12 && u + v <= 1.0 + 1e-12;
+        let inside = u >= -slack && v >= -slack && u + v <= 1.0 + slack;
         if inside && t > 0.0 && t < t_max as f64 && best.is_none_or(|(bt, _)| t < bt) {
             best = Some((t, i as u32));
         }
@@ -100,8 +111,14 @@ proptest! {
                 bvh.occluded(o, d, 10.0) == want.is_some() || grazes(&tris, o, d, want.map(|x| x.1))
                     || grazes(&tris, o, d, bvh.cast(o, d, 10.0).map(|h| h.triangle))
             );
-            if let Some((t, _)) = want {
-                prop_assert!(!bvh.occluded(o, d, t * 0.999) || brute(&tris, o, d, t * 0.999).is_some());
+            // nothing short of the nearest hit by more than f32's rounding of distances (1e-4,
+            // as above: a relative margin fails for a hit micrometres from the origin), but
+            // where the ray grazes an edge
+            if let Some((t, _)) = want.filter(|&(t, _)| t > 1e-4) {
+                let before = t - 1e-4;
+                prop_assert!(
+                    !bvh.occluded(o, d, before) || brute_within(&tris, o, d, before, 1e-5).is_some()
+                );
             }
         }
     }

@@ -1,6 +1,8 @@
 """View planning at the inspection station as a Gymnasium environment (``gymnasium`` needed).
 
-``ViewPlanningEnv``, registered as ``motorfactory/ViewPlanning-v0``: each episode clamps an
+``ViewPlanningEnv``, registered as ``motorfactory/ViewPlanning-v0`` when this module is
+imported (``gym.make("motorfactory.gym:motorfactory/ViewPlanning-v0")`` imports it; Gymnasium
+1.x loads no plugins, so the bare id needs ``import motorfactory.gym`` first): each episode clamps an
 unseen motor (any variant of the configuration's parameter space) in one of the station's two
 setups; each step places the structured-light camera on a viewing sphere round the motor, scans
 the cell and rewards the surface seen for the first time, less a cost per view (and per radian
@@ -11,8 +13,7 @@ ideal sensor would see the most new surface from; it knows the motor's surface, 
 what a policy learns from the clouds alone).
 
     import gymnasium as gym
-    import motorfactory.gym  # registers the environment
-    env = gym.make("motorfactory/ViewPlanning-v0", view_set=32)
+    env = gym.make("motorfactory.gym:motorfactory/ViewPlanning-v0", view_set=32)
     obs, info = env.reset(seed=0)
     obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
 """
@@ -35,6 +36,10 @@ DEFAULT_OVERRIDES = {"sensor.sampling": "blueSubsample4x4"}
 
 # half the side of the cube the observed points lie in, about the motor's centre, m
 EXTENT = 0.5
+
+# stations (a motor clamped, its surface sampled, the cell's world) an environment keeps for
+# episodes on the same motor and clamping again
+STATIONS_KEPT = 4
 
 
 def sphere_views(count: int, min_elevation: float, distance: float) -> np.ndarray:
@@ -148,6 +153,8 @@ class ViewPlanningEnv(gymnasium.Env):
             observed["normals"] = spaces.Box(-1.0, 1.0, (num_points, 3), np.float32)
         self.observation_space = spaces.Dict(observed)
         self.station: Station | None = None
+        # stations by (index, clamping), the most recently used last
+        self._stations: dict[tuple[int, str], Station] = {}
         # the points, normals and view numbers of the episode's cloud (see `_add`)
         self._store = (
             np.zeros((0, 3), np.float32),
@@ -166,7 +173,7 @@ class ViewPlanningEnv(gymnasium.Env):
         clamping = options.get(
             "clamping", self.clampings[int(self.np_random.integers(len(self.clampings)))]
         )
-        self.station = Station(self.config, index, clamping, self.overrides, **self.coverage_rule)
+        self.station = self._station(index, clamping)
         self.index, self.clamping = index, clamping
         self.centre = np.array(self.station.centre, dtype=np.float32)
         # the cloud so far: views into arrays kept from episode to episode and grown by
@@ -176,6 +183,20 @@ class ViewPlanningEnv(gymnasium.Env):
         self.last_direction: np.ndarray | None = None
         self.taken: set[int] = set()
         return self._observation(), self._info(0.0)
+
+    def _station(self, index: int, clamping: str) -> Station:
+        """The station of motor ``index`` in ``clamping`` with no view taken: one kept from an
+        earlier episode, restarted (the same as a new one, without sampling its surface and
+        building its world again), or a new one."""
+        station = self._stations.pop((index, clamping), None)
+        if station is None:
+            station = Station(self.config, index, clamping, self.overrides, **self.coverage_rule)
+        else:
+            station.restart()
+        self._stations[(index, clamping)] = station
+        while len(self._stations) > STATIONS_KEPT:
+            del self._stations[next(iter(self._stations))]
+        return station
 
     def step(self, action):
         if self.station is None:

@@ -2,8 +2,8 @@
 
 - :class:`MotorDataset`: a map-style dataset of one split of a configuration, optionally with
   fixed-size blocks of points as the AgiProbot networks take them;
-- :class:`MotorStream`: an iterable dataset that shards the sample indices over DataLoader
-  workers and distributed ranks, endless or for a number of samples;
+- :class:`MotorStream`: an iterable dataset that shards the sample indices (of one split, or
+  all) over DataLoader workers and distributed ranks, endless or for a number of samples;
 - :class:`DetectionDataset`: a split's colour images with torchvision's detection targets
   (boxes, labels, masks), for Mask R-CNN and its kin;
 - :func:`detection_collate`: batches detection samples as torchvision's models take them;
@@ -57,8 +57,9 @@ def block(sample: Sample, num_points: int, seed: Any, normalize: bool = False) -
 
 
 class MotorDataset(Dataset):
-    """The samples of one split (``train``, ``validation`` or ``test``, as the configuration
-    assigns them) of a configuration, made when asked for.
+    """The samples of one split (``train`` or ``validation``, as the configuration's
+    ``augment.validation`` share assigns them; ``None``: every sample) of a configuration, made
+    when asked for.
 
     ``num_points`` draws a fixed-size block of each sample's points with replacement (the same
     block every time for the same sample and ``seed``), ``normalize`` scales it into the unit
@@ -98,11 +99,14 @@ class MotorDataset(Dataset):
 
 
 class MotorStream(IterableDataset):
-    """Samples ``start``, ``start + 1``, ... of a configuration (endless without ``count``),
-    shared out over the DataLoader's workers and the distributed ranks: worker ``w`` of ``W`` on
-    rank ``r`` of ``R`` makes the samples whose position is ``r * W + w`` modulo ``R * W``, so
-    every sample is made once and a run is the same whatever the workers. Sample indices may
-    exceed the configuration's ``samples`` (sample i does not depend on how many there are).
+    """The samples of a configuration from index ``start`` on, of one ``split`` (``train`` or
+    ``validation``, as the configuration's ``augment.validation`` share assigns every index; the
+    default ``None`` keeps every sample), endless without ``count`` (the number of samples
+    streamed), shared out over the DataLoader's workers and the distributed ranks: worker ``w``
+    of ``W`` on rank ``r`` of ``R`` makes the samples whose position in the stream is
+    ``r * W + w`` modulo ``R * W``, so every sample is made once and a run is the same whatever
+    the workers. Sample indices may exceed the configuration's ``samples`` (sample i does not
+    depend on how many there are), and a training stream never yields a validation sample.
     """
 
     def __init__(
@@ -115,8 +119,12 @@ class MotorStream(IterableDataset):
         transform: Optional[Callable[[Sample], Any]] = None,
         seed: Optional[int] = None,
         overrides: Optional[Mapping[str, Any]] = None,
+        split: Optional[str] = None,
     ) -> None:
         self.generator = Generator(config, seed=seed, overrides=overrides)
+        if split not in (None, "train", "validation"):
+            raise ValueError(f'split = "{split}" is not allowed: expected "train" or "validation"')
+        self.split = split
         self.start, self.count = start, count
         self.num_points, self.normalize, self.transform = num_points, normalize, transform
         self.seed = 0 if seed is None else seed
@@ -132,16 +140,25 @@ class MotorStream(IterableDataset):
             rank, ranks = 0, 1
         return rank * workers + worker, ranks * workers
 
+    def _indices(self) -> Iterator[int]:
+        """The stream's sample indices, in order: from ``start``, those of its split."""
+        index = self.start
+        while True:
+            if self.split is None or self.generator.split_of(index) == self.split:
+                yield index
+            index += 1
+
     def __iter__(self) -> Iterator[Any]:
         me, everyone = self._share()
-        k = me
-        while self.count is None or k < self.count:
-            index = self.start + k
+        for k, index in enumerate(self._indices()):
+            if self.count is not None and k >= self.count:
+                return
+            if k % everyone != me:
+                continue
             sample = _tensors(self.generator.sample_at(index), index)
             if self.num_points is not None:
                 sample = block(sample, self.num_points, (self.seed, index), self.normalize)
             yield self.transform(sample) if self.transform is not None else sample
-            k += everyone
 
 
 def detection_target(view: Mapping[str, Any], index: int) -> "tuple[torch.Tensor, Dict[str, torch.Tensor]]":

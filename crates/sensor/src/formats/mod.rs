@@ -19,7 +19,7 @@ pub use image::{
 };
 pub use npy::{write_depth_npy, write_npy_i32, write_npy_synmotor, write_npz};
 pub use pcd::write_pcd;
-pub use ply::write_ply;
+pub use ply::{write_ply, write_surface_ply};
 
 /// A point-cloud file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

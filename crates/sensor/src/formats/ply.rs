@@ -5,21 +5,17 @@ use std::io::{Result, Write};
 use super::write_rows;
 use crate::cloud::PointCloud;
 
-/// Writes `x y z nx ny nz intensity snr` (float), `red green blue` (uchar, sRGB), `class` (ushort),
-/// `instance` (uint) and `wear` (float, the share of rust) per vertex.
+/// Writes `x y z nx ny nz intensity snr` (float), `red green blue` (uchar, sRGB), `class`
+/// (uint16), `instance` (int: 32 bits, signed) and `wear` (float, the share of rust) per vertex.
+/// The labels' types are those Open3D's tensor reader keeps (it skips `ushort` and `uint`);
+/// a cloud with an instance id of 2³¹ or more declares `instance` as `uint` (the same bytes),
+/// which keeps every id.
 ///
 /// # Errors
 ///
 /// Any error of writing to `w`.
 pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
-    write!(
-        w,
-        "ply\nformat binary_little_endian 1.0\ncomment motorfactory scan\nelement vertex {}\n\
-         property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n\
-         property float nz\nproperty float intensity\nproperty float snr\nproperty uchar red\nproperty uchar green\n\
-         property uchar blue\nproperty ushort class\nproperty uint instance\nproperty float wear\nend_header\n",
-        c.len()
-    )?;
+    header(w, c, true)?;
     write_rows(w, 0..c.len(), |i, row| {
         let [x, y, z] = c.xyz[i].to_array();
         let [nx, ny, nz] = c.normal[i].to_array();
@@ -33,4 +29,53 @@ pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
         row.extend_from_slice(&record);
         Ok(())
     })
+}
+
+/// As [`write_ply`], for points sampled on a surface rather than measured: `x y z nx ny nz`,
+/// `red green blue`, `class` and `instance`, without the measurement's `intensity`, `snr` and
+/// `wear`.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_surface_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
+    header(w, c, false)?;
+    write_rows(w, 0..c.len(), |i, row| {
+        let [x, y, z] = c.xyz[i].to_array();
+        let [nx, ny, nz] = c.normal[i].to_array();
+        let floats = [x, y, z, nx, ny, nz].map(f32::to_le_bytes);
+        let mut record = [0u8; 33];
+        record[..24].copy_from_slice(floats.as_flattened());
+        record[24..27].copy_from_slice(&c.rgb[i]);
+        record[27..29].copy_from_slice(&c.class[i].to_le_bytes());
+        record[29..].copy_from_slice(&c.instance[i].to_le_bytes());
+        row.extend_from_slice(&record);
+        Ok(())
+    })
+}
+
+/// The header of a cloud's vertices, with the measurement's fields or without them.
+fn header(w: &mut dyn Write, c: &PointCloud, measured: bool) -> Result<()> {
+    let instance = if c.instance.iter().any(|&i| i32::try_from(i).is_err()) {
+        "uint"
+    } else {
+        "int"
+    };
+    let (what, signal, wear) = if measured {
+        (
+            "scan",
+            "property float intensity\nproperty float snr\n",
+            "property float wear\n",
+        )
+    } else {
+        ("surface samples", "", "")
+    };
+    write!(
+        w,
+        "ply\nformat binary_little_endian 1.0\ncomment motorfactory {what}\nelement vertex {}\n\
+         property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n\
+         property float nz\n{signal}property uchar red\nproperty uchar green\nproperty uchar blue\n\
+         property uint16 class\nproperty {instance} instance\n{wear}end_header\n",
+        c.len()
+    )
 }
