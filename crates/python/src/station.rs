@@ -14,7 +14,8 @@ use scene::coverage::Rule;
 use scene::rig::on_cap;
 use scene::{Clamping, Dataset, Shard};
 
-use crate::{cloud_dict, config_table, scene_error, vectors, work};
+use crate::generator::config_table;
+use crate::{cloud_dict, scene_error, vectors, work};
 
 /// One motor of a dataset configuration clamped at the inspection station.
 #[pyclass(module = "motorfactory")]
