@@ -15,20 +15,7 @@ use crate::cloud::PointCloud;
 ///
 /// Any error of writing to `w`.
 pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
-    header(w, c, true)?;
-    write_rows(w, 0..c.len(), |i, row| {
-        let [x, y, z] = c.xyz[i].to_array();
-        let [nx, ny, nz] = c.normal[i].to_array();
-        let floats = [x, y, z, nx, ny, nz, c.intensity[i], c.snr[i]].map(f32::to_le_bytes);
-        let mut record = [0u8; 45];
-        record[..32].copy_from_slice(floats.as_flattened());
-        record[32..35].copy_from_slice(&c.rgb[i]);
-        record[35..37].copy_from_slice(&c.class[i].to_le_bytes());
-        record[37..41].copy_from_slice(&c.instance[i].to_le_bytes());
-        record[41..].copy_from_slice(&c.wear[i].to_le_bytes());
-        row.extend_from_slice(&record);
-        Ok(())
-    })
+    write_vertices(w, c, true)
 }
 
 /// As [`write_ply`], for points sampled on a surface rather than measured: `x y z nx ny nz`,
@@ -39,17 +26,35 @@ pub fn write_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
 ///
 /// Any error of writing to `w`.
 pub fn write_surface_ply(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
-    header(w, c, false)?;
+    write_vertices(w, c, false)
+}
+
+/// The header and the vertices, with the measurement's fields or without them.
+fn write_vertices(w: &mut dyn Write, c: &PointCloud, measured: bool) -> Result<()> {
+    header(w, c, measured)?;
     write_rows(w, 0..c.len(), |i, row| {
         let [x, y, z] = c.xyz[i].to_array();
         let [nx, ny, nz] = c.normal[i].to_array();
-        let floats = [x, y, z, nx, ny, nz].map(f32::to_le_bytes);
-        let mut record = [0u8; 33];
-        record[..24].copy_from_slice(floats.as_flattened());
-        record[24..27].copy_from_slice(&c.rgb[i]);
-        record[27..29].copy_from_slice(&c.class[i].to_le_bytes());
-        record[29..].copy_from_slice(&c.instance[i].to_le_bytes());
-        row.extend_from_slice(&record);
+        // one vertex's bytes, gathered in a fixed record and copied into the row at once
+        let mut record = [0u8; 45];
+        let mut at = 0;
+        let mut put = |bytes: &[u8]| {
+            record[at..at + bytes.len()].copy_from_slice(bytes);
+            at += bytes.len();
+        };
+        put([x, y, z, nx, ny, nz].map(f32::to_le_bytes).as_flattened());
+        if measured {
+            put([c.intensity[i], c.snr[i]]
+                .map(f32::to_le_bytes)
+                .as_flattened());
+        }
+        put(&c.rgb[i]);
+        put(&c.class[i].to_le_bytes());
+        put(&c.instance[i].to_le_bytes());
+        if measured {
+            put(&c.wear[i].to_le_bytes());
+        }
+        row.extend_from_slice(&record[..at]);
         Ok(())
     })
 }
