@@ -157,6 +157,26 @@ fn small_dataset_is_complete_labelled_cropped_and_listed() {
     assert_eq!(labels["classes"][6]["name"], "cover_bolt");
     let config = std::fs::read_to_string(out.join("config.toml")).unwrap();
     assert!(config.contains("samples = 10"), "{config}");
+    // the card: each class's share of the points and of the samples, as the manifest counts
+    let card = std::fs::read_to_string(out.join("dataset-card.md")).unwrap();
+    assert!(card.starts_with("# Dataset card\n\n10 samples"), "{card}");
+    let counts: Vec<Vec<u64>> = rows
+        .iter()
+        .map(|r| serde_json::from_value(r["class_counts"].clone()).unwrap())
+        .collect();
+    let total: u64 = counts.iter().flatten().sum();
+    for (id, name) in ["background", "cover", "gear_container", "charger", "bottom"]
+        .iter()
+        .enumerate()
+    {
+        let of: u64 = counts.iter().filter_map(|c| c.get(id)).sum();
+        let holding = counts.iter().filter(|c| c.get(id) > Some(&0)).count();
+        let line = format!(
+            "| {id} | `{name}` | {:.2} % | {holding} of 10 |",
+            100.0 * of as f64 / total as f64
+        );
+        assert!(card.contains(&line), "{line} not in\n{card}");
+    }
     // the preview draws it
     let png = dir.path().join("sheet.png");
     let o = motorfactory()

@@ -174,6 +174,12 @@ impl Station {
         Ok(work(py, || self.station.predict(&pose)))
     }
 
+    /// Which surface samples were observed so far (bool, in the order of `surface()`'s).
+    #[getter]
+    fn seen<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        PyArray1::from_slice(py, &self.station.seen)
+    }
+
     /// The share of the surface observed so far, and per part (by name).
     fn coverage(&self) -> (f32, Vec<(&'static str, f32)>) {
         let (total, parts) = self.station.coverage();
@@ -192,7 +198,7 @@ impl Station {
         d.set_item("normal", vectors(py, s.normals.clone())?)?;
         d.set_item("instance", PyArray1::from_slice(py, &s.instances))?;
         d.set_item("part", s.parts.iter().map(|k| k.name()).collect::<Vec<_>>())?;
-        d.set_item("seen", PyArray1::from_slice(py, &self.station.seen))?;
+        d.set_item("seen", self.seen(py))?;
         d.set_item("area", s.area)?;
         Ok(d)
     }

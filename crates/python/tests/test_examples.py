@@ -1,4 +1,5 @@
-"""The Python examples run as documented: training lowers the loss; inspecting writes its PNG."""
+"""The Python examples run as documented: training lowers the loss; inspecting writes its PNG;
+PPO plans views and is scored on held-out motors."""
 
 import json
 import pathlib
@@ -37,3 +38,17 @@ def test_inspecting_a_sample_writes_its_png(tmp_path):
     assert "points" in out
     legend = next(line for line in out.splitlines() if line.startswith("legend: "))
     assert "background" in legend and len(legend.split(", ")) >= 3, legend
+
+
+def test_the_view_planning_example_trains_ppo_and_scores_it_on_held_out_motors(tmp_path):
+    png = tmp_path / "ppo.png"
+    out = run("train_view_planning.py", "--steps", "250", "--motors", "2", "--points", "64",
+              "--plot", str(png))
+    summary = json.loads(out.strip().splitlines()[-1])
+    assert summary["steps"] == 250 and summary["episodes"] == 25 and summary["held_out_motors"] == 2
+    scores = summary["coverage_after_views"]
+    assert set(scores) == {"PPO, PointNet extractor", "random views",
+                           "random views not taken before", "greedy next-best view"}
+    assert all(0.3 < s <= 1.0 for s in scores.values()), scores
+    assert scores["greedy next-best view"] > scores["random views"]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

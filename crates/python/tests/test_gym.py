@@ -94,7 +94,12 @@ def test_one_seed_gives_one_episode():
 
 def test_coverage_only_grows_and_the_reward_is_the_gain_less_the_costs():
     env = mg.ViewPlanningEnv(
-        num_points=1024, view_set=12, view_cost=0.02, travel_cost=0.1, max_views=4
+        num_points=1024,
+        view_set=12,
+        view_cost=0.02,
+        travel_cost=0.1,
+        max_views=4,
+        target_coverage=1.0,
     )
     obs, info = env.reset(seed=3, options={"index": 3, "clamping": "pole-pot-up"})
     assert info["index"] == 3 and info["clamping"] == "pole-pot-up" and info["coverage"] == 0.0

@@ -10,17 +10,5 @@
   (``gymnasium`` is optional).
 """
 
-from ._core import CONFIGS, PRESETS, Generator, Motor, Part, Scan, Station, __version__, motor, scan
-
-__all__ = [
-    "CONFIGS",
-    "PRESETS",
-    "Generator",
-    "Motor",
-    "Part",
-    "Scan",
-    "Station",
-    "__version__",
-    "motor",
-    "scan",
-]
+from ._core import *  # noqa: F403 (the extension's names, as its __all__ lists them)
+from ._core import __all__

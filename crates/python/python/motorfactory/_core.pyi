@@ -1,7 +1,8 @@
-"""Type stubs of the extension module ``motorfactory._core``."""
+"""Type stubs of the extension module ``motorfactory._core`` (checked against it by mypy's
+stubtest)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -9,9 +10,22 @@ import numpy.typing as npt
 PRESETS: List[str]
 CONFIGS: List[str]
 __version__: str
+__all__ = [
+    "CONFIGS",
+    "PRESETS",
+    "Generator",
+    "Motor",
+    "Part",
+    "Scan",
+    "Station",
+    "__version__",
+    "motor",
+    "scan",
+]
 
-Cloud = Dict[str, npt.NDArray[Any]]
+_Cloud = Dict[str, npt.NDArray[Any]]
 
+@final
 class Part:
     """One part of a motor: a closed mesh with its labels (motor frame, metres)."""
 
@@ -24,6 +38,7 @@ class Part:
     @property
     def triangles(self) -> npt.NDArray[np.uint32]: ...
 
+@final
 class Motor:
     """A built motor: its parts, parameters and ground truth."""
 
@@ -48,6 +63,7 @@ def motor(
     detail: str = "normal",
 ) -> Motor: ...
 
+@final
 class Scan:
     """A scan: the sensor's organized image, pixel by pixel (rows x columns)."""
 
@@ -65,37 +81,38 @@ class Scan:
     def intensity(self) -> npt.NDArray[np.float32]: ...
     @property
     def pose(self) -> npt.NDArray[np.float32]: ...
-    def points(self) -> Cloud: ...
+    def points(self) -> _Cloud: ...
 
-Mesh = Union[
+_Mesh = Union[
     str,
     PathLike[str],
     Tuple[npt.NDArray[np.float32], npt.NDArray[np.uint32], int, int],
 ]
 
 def scan(
-    meshes: List[Mesh],
+    meshes: List[_Mesh],
     sensor: str = "zivid-2plus-m130",
-    eye: Tuple[float, float, float] = (0.0, -0.6, 0.6),
-    target: Tuple[float, float, float] = (0.0, 0.0, 0.0),
-    up: Tuple[float, float, float] = (0.0, 0.0, 1.0),
+    eye: Tuple[float, float, float] = ...,
+    target: Tuple[float, float, float] = ...,
+    up: Tuple[float, float, float] = ...,
     seed: int = 0,
     sampling: str = "all",
     material: str = "grey-plastic",
 ) -> Scan: ...
 
+@final
 class Generator:
     """Dataset samples made in memory: ``Generator(config)[i]`` is sample ``i``."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         config: Union[None, str, PathLike[str], Mapping[str, Any]] = None,
         seed: Optional[int] = None,
         overrides: Optional[Mapping[str, Any]] = None,
         samples: Optional[int] = None,
-    ) -> None: ...
+    ) -> Generator: ...
     def __len__(self) -> int: ...
-    def __getitem__(self, index: int) -> Dict[str, Any]: ...
+    def __getitem__(self, index: int, /) -> Dict[str, Any]: ...
     def sample_at(self, index: int) -> Dict[str, Any]: ...
     def indices(self, split: Optional[str] = None) -> List[int]: ...
     def split_of(self, index: int) -> str: ...
@@ -104,12 +121,13 @@ class Generator:
     @property
     def config(self) -> str: ...
 
+@final
 class Station:
     """One motor of a dataset configuration clamped at the inspection station, viewed one view
     at a time."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         config: Union[None, str, PathLike[str], Mapping[str, Any]] = None,
         index: int = 0,
         clamping: str = "gear-container-up",
@@ -117,7 +135,7 @@ class Station:
         density: float = 2e5,
         radius: float = 0.002,
         max_angle: float = 75.0,
-    ) -> None: ...
+    ) -> Station: ...
     @property
     def centre(self) -> Tuple[float, float, float]: ...
     @property
@@ -134,5 +152,7 @@ class Station:
     def predict(
         self, azimuth: float, elevation: float, distance: float, roll: float = 0.0
     ) -> float: ...
+    @property
+    def seen(self) -> npt.NDArray[np.bool_]: ...
     def coverage(self) -> Tuple[float, List[Tuple[str, float]]]: ...
     def surface(self) -> Dict[str, Any]: ...

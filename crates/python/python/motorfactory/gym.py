@@ -6,7 +6,11 @@ imported (``gym.make("motorfactory.gym:motorfactory/ViewPlanning-v0")`` imports 
 unseen motor (any variant of the configuration's parameter space) in one of the station's two
 setups; each step places the structured-light camera on a viewing sphere round the motor, scans
 the cell and rewards the surface seen for the first time, less a cost per view (and per radian
-travelled). The observation is the cloud measured so far, a fixed number of points.
+travelled). The observation is the cloud measured so far, a fixed number of points, for a
+point-cloud network (:mod:`motorfactory.nn`, :mod:`motorfactory.sb3`); or, with
+``observation="vector"``, fixed-length vectors whose every entry means the same in every episode,
+for a multilayer perceptron. With a discrete view set it says which views were taken, and
+:meth:`ViewPlanningEnv.action_masks` masks them (SB3-contrib's ``MaskablePPO`` convention).
 
 Two baselines: :func:`random_view` and :func:`greedy_view` (next-best view: the candidate an
 ideal sensor would see the most new surface from; it knows the motor's surface, so it bounds
@@ -41,10 +45,20 @@ EXTENT = 0.5
 # episodes on the same motor and clamping again
 STATIONS_KEPT = 4
 
+OBSERVATIONS = ("cloud", "vector")
+
+# the vector observation: the surface's coverage by the direction it faces (this many directions
+# over the whole sphere), and the cloud's occupancy of a grid of GRID^3 cells, GRID_EXTENT (m)
+# either side of the motor's centre (a motor's points lie within 0.11 m of it)
+FACINGS = 32
+GRID = 8
+GRID_EXTENT = 0.12
+
 
 def sphere_views(count: int, min_elevation: float, distance: float) -> np.ndarray:
     """``count`` views (azimuth, elevation, distance, roll) spread evenly over the viewing
-    sphere's cap above ``min_elevation`` (radians), a spiral of equal areas."""
+    sphere's cap above ``min_elevation`` (radians, -pi/2 for the whole sphere), a spiral of
+    equal areas."""
     k = np.arange(count) + 0.5
     top, bottom = 1.0, math.sin(min_elevation)
     elevation = np.arcsin(top - (top - bottom) * k / count)
@@ -60,12 +74,24 @@ class ViewPlanningEnv(gymnasium.Env):
     Parameters:
         config, overrides: the dataset configuration whose motors, cell and sensor are used (as
             for ``motorfactory.Generator``); by default ``default`` at 612 x 512.
+        observation: ``"cloud"``: ``points`` (the cloud so far, ``num_points`` drawn from it,
+            centred on the motor, m), ``new`` (1 where a point is the latest view's), the
+            ``coverage`` so far, with ``normals=True`` the points' normals, and in a view set
+            ``taken`` (1 for each view taken). ``"vector"``: ``coverage``,
+            ``coverage_by_direction`` (the share covered of the surface facing each of
+            ``FACINGS`` directions spread over the sphere from the top down), ``occupancy`` (1 for
+            each cell of a ``GRID``-cubed grid round the motor holding a measured point, x
+            fastest), ``views`` (views taken over ``max_views``), and ``taken`` in a view set or
+            ``poses`` (the actions so far, one after the other, zeros after) otherwise.
         num_points: points in the observation's cloud.
         normals: also observe the points' normals.
         view_set: ``None`` for continuous actions, four numbers from -1 to 1 spanning the
             azimuth (-pi to pi), elevation (``min_elevation`` to pi/2), distance and roll (-pi to
             pi); a count for a discrete choice among that many views spread over the sphere.
-        target_coverage: the episode ends when this share of the surface is covered.
+        target_coverage: the episode ends when this share of the surface is covered. The
+            default, 0.6, is one a good policy reaches: the greedy next-best view of 32 reaches
+            it within 10 views on every motor standing and 95 % of those lying (median 3 and 6
+            views), where 0.65 is reached on 15 % of those lying (40 motors).
         max_views: the episode is cut off after this many views.
         view_cost: subtracted from each step's reward.
         travel_cost: subtracted per radian between the previous view's direction and this one's.
@@ -83,10 +109,11 @@ class ViewPlanningEnv(gymnasium.Env):
         self,
         config: Any = "default",
         overrides: dict | None = None,
+        observation: str = "cloud",
         num_points: int = 4096,
         normals: bool = False,
         view_set: int | None = None,
-        target_coverage: float = 0.75,
+        target_coverage: float = 0.6,
         max_views: int = 10,
         view_cost: float = 0.01,
         travel_cost: float = 0.0,
@@ -98,6 +125,8 @@ class ViewPlanningEnv(gymnasium.Env):
         max_angle: float = 75.0,
         render_mode: str | None = None,
     ):
+        if observation not in OBSERVATIONS:
+            raise ValueError(f"observation = {observation!r} is not allowed: one of {OBSERVATIONS}")
         if num_points < 1:
             raise ValueError(f"num_points = {num_points} is not allowed: at least 1")
         if not 0.0 < target_coverage <= 1.0:
@@ -115,6 +144,7 @@ class ViewPlanningEnv(gymnasium.Env):
         if view_set is not None and view_set < 1:
             raise ValueError(f"view_set = {view_set} is not allowed: at least 1, or None")
         self.config = config
+        self.observation = observation
         self.overrides = DEFAULT_OVERRIDES if overrides is None else overrides
         self.num_points = num_points
         self.normals = normals
@@ -144,23 +174,42 @@ class ViewPlanningEnv(gymnasium.Env):
         else:
             self.views = sphere_views(view_set, min_elevation, (lo + hi) / 2)
             self.action_space = spaces.Discrete(view_set)
-        observed = {
-            "points": spaces.Box(-EXTENT, EXTENT, (num_points, 3), np.float32),
-            "new": spaces.MultiBinary(num_points),
-            "coverage": spaces.Box(0.0, 1.0, (1,), np.float32),
-        }
-        if normals:
-            observed["normals"] = spaces.Box(-1.0, 1.0, (num_points, 3), np.float32)
-        self.observation_space = spaces.Dict(observed)
+        self.observation_space = spaces.Dict(self._spaces())
+        # the directions the vector observation's coverage is told by
+        self.facings = np.array([_direction(v) for v in sphere_views(FACINGS, -math.pi / 2, 1.0)])
         self.station: Station | None = None
-        # stations by (index, clamping), the most recently used last
-        self._stations: dict[tuple[int, str], Station] = {}
+        # stations by (index, clamping), the most recently used last, each with the direction
+        # each of its surface samples faces (an index into `facings`) and how many face each
+        self._stations: dict[tuple[int, str], tuple[Station, np.ndarray, np.ndarray]] = {}
         # the points, normals and view numbers of the episode's cloud (see `_add`)
         self._store = (
             np.zeros((0, 3), np.float32),
             np.zeros((0, 3), np.float32),
             np.zeros(0, np.int32),
         )
+
+    def _spaces(self) -> dict:
+        one = spaces.Box(0.0, 1.0, (1,), np.float32)
+        if self.observation == "cloud":
+            observed = {
+                "points": spaces.Box(-EXTENT, EXTENT, (self.num_points, 3), np.float32),
+                "new": spaces.MultiBinary(self.num_points),
+                "coverage": one,
+            }
+            if self.normals:
+                observed["normals"] = spaces.Box(-1.0, 1.0, (self.num_points, 3), np.float32)
+        else:
+            observed = {
+                "coverage": one,
+                "coverage_by_direction": spaces.Box(0.0, 1.0, (FACINGS,), np.float32),
+                "occupancy": spaces.MultiBinary(GRID**3),
+                "views": one,
+            }
+            if self.views is None:
+                observed["poses"] = spaces.Box(-1.0, 1.0, (4 * self.max_views,), np.float32)
+        if self.views is not None:
+            observed["taken"] = spaces.MultiBinary(len(self.views))
+        return observed
 
     # -- the episode ------------------------------------------------------------------------
 
@@ -173,7 +222,7 @@ class ViewPlanningEnv(gymnasium.Env):
         clamping = options.get(
             "clamping", self.clampings[int(self.np_random.integers(len(self.clampings)))]
         )
-        self.station = self._station(index, clamping)
+        self.station, self._facing, self._facing_count = self._station(index, clamping)
         self.index, self.clamping = index, clamping
         self.centre = np.array(self.station.centre, dtype=np.float32)
         # the cloud so far: views into arrays kept from episode to episode and grown by
@@ -181,31 +230,37 @@ class ViewPlanningEnv(gymnasium.Env):
         self.cloud, self.cloud_normals, self.cloud_view = (a[:0] for a in self._store)
         self.coverage = 0.0
         self.last_direction: np.ndarray | None = None
-        self.taken: set[int] = set()
+        self.taken = np.zeros(0 if self.views is None else len(self.views), np.int8)
+        self.poses = np.zeros((self.max_views, 4), np.float32)
+        self.occupancy = np.zeros(GRID**3, np.int8)
         return self._observation(), self._info(0.0)
 
-    def _station(self, index: int, clamping: str) -> Station:
+    def _station(self, index: int, clamping: str) -> tuple[Station, np.ndarray, np.ndarray]:
         """The station of motor ``index`` in ``clamping`` with no view taken: one kept from an
         earlier episode, restarted (the same as a new one, without sampling its surface and
-        building its world again), or a new one."""
-        station = self._stations.pop((index, clamping), None)
-        if station is None:
+        building its world again), or a new one; with its samples' facings."""
+        kept = self._stations.pop((index, clamping), None)
+        if kept is None:
             station = Station(self.config, index, clamping, self.overrides, **self.coverage_rule)
+            facing = np.argmax(station.surface()["normal"] @ self.facings.T, axis=1)
+            kept = (station, facing, np.bincount(facing, minlength=FACINGS))
         else:
-            station.restart()
-        self._stations[(index, clamping)] = station
+            kept[0].restart()
+        self._stations[(index, clamping)] = kept
         while len(self._stations) > STATIONS_KEPT:
             del self._stations[next(iter(self._stations))]
-        return station
+        return kept
 
     def step(self, action):
         if self.station is None:
             raise RuntimeError("call reset() before step()")
         view = self.pose_of(action)
+        n = self.station.views
         if self.views is not None:
-            self.taken.add(int(action))
+            self.taken[int(action)] = 1
+        elif n < self.max_views:
+            self.poses[n] = np.clip(action, -1.0, 1.0)
         got = self.station.capture(*view)
-        n = self.station.views - 1
         self._add(got["xyz"], got["normal"], n)
         self.coverage = self.station.coverage()[0]
         direction = _direction(view)
@@ -241,6 +296,19 @@ class ViewPlanningEnv(gymnasium.Env):
         self.cloud = store_xyz[: n + m]
         self.cloud_normals = store_normals[: n + m]
         self.cloud_view = store_view[: n + m]
+        cell = np.floor((store_xyz[n : n + m] + GRID_EXTENT) * (GRID / (2 * GRID_EXTENT)))
+        cell = cell[((cell >= 0) & (cell < GRID)).all(axis=1)].astype(np.int64)
+        self.occupancy[cell[:, 0] + GRID * (cell[:, 1] + GRID * cell[:, 2])] = 1
+
+    def action_masks(self) -> np.ndarray:
+        """The views that may be taken (True): those of the view set not taken yet, or every
+        one when all are (SB3-contrib's ``MaskablePPO`` reads it)."""
+        if self.views is None:
+            raise ValueError(
+                "action masks need a discrete view set: make the environment with view_set="
+            )
+        free = self.taken == 0
+        return free if free.any() else np.ones_like(free)
 
     def pose_of(self, action) -> tuple[float, float, float, float]:
         """The view (azimuth, elevation, distance, roll) an action stands for: a view set's view, or
@@ -251,6 +319,24 @@ class ViewPlanningEnv(gymnasium.Env):
         return tuple(float(x) for x in self.low + (a + 1.0) / 2.0 * (self.high - self.low))
 
     def _observation(self) -> dict:
+        obs = self._vector() if self.observation == "vector" else self._cloud()
+        if self.views is not None:
+            obs["taken"] = self.taken.copy()
+        return obs
+
+    def _vector(self) -> dict:
+        seen = np.bincount(self._facing[self.station.seen], minlength=FACINGS)
+        obs = {
+            "coverage": np.array([self.coverage], np.float32),
+            "coverage_by_direction": (seen / np.maximum(self._facing_count, 1)).astype(np.float32),
+            "occupancy": self.occupancy.copy(),
+            "views": np.array([min(self.station.views / self.max_views, 1.0)], np.float32),
+        }
+        if self.views is None:
+            obs["poses"] = self.poses.flatten()
+        return obs
+
+    def _cloud(self) -> dict:
         n = len(self.cloud)
         if n == 0:
             pick = np.zeros(self.num_points, np.int64)
@@ -347,7 +433,7 @@ def greedy_view(env: gymnasium.Env) -> int:
             "greedy_view needs a discrete view set: make the environment with view_set="
         )
     scores = [
-        -1.0 if k in inner.taken else inner.station.predict(*v) for k, v in enumerate(inner.views)
+        -1.0 if inner.taken[k] else inner.station.predict(*v) for k, v in enumerate(inner.views)
     ]
     return int(np.argmax(scores))
 

@@ -7,10 +7,13 @@
 //!   per sample `{index}_{variant}_{level}.json` and its clouds (`_v{k}` per view when there
 //!   are several views; `_scene` for the whole scan; images);
 //! - `manifest.jsonl` (`manifest-{i}-of-{n}.jsonl` for shard i of n): one row per finished
-//!   sample, sorted by index when the run ends.
+//!   sample, sorted by index when the run ends;
+//! - `dataset-card.md`: what the finished dataset holds, its classes' shares, use and licence.
 
+mod card;
 mod files;
 mod folder;
+mod gather;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -24,7 +27,6 @@ use crate::augment::Split;
 use crate::claim::{Claim, plain_dir};
 use crate::config::{Combinations, Config, Layout, set_key};
 use crate::error::{Error, Result};
-use crate::record::SampleJson;
 use crate::sample::{Recipe, Sample, make};
 
 pub(crate) use files::SAMPLE_FOLDERS;
@@ -501,57 +503,6 @@ impl Dataset {
         }
         drop(claim);
         Ok(summary)
-    }
-}
-
-impl Dataset {
-    /// What the whole dataset (`rows`) shares, from its samples' JSON: with `output.coco` the
-    /// COCO instances files, from the annotations each keeps; with `output.bop` BOP's
-    /// `camera.json`, the first sample's camera.
-    fn gather(&self, rows: &[Row]) -> Result<()> {
-        let output = &self.base.config.output;
-        let coco = output.coco != crate::coco::CocoMasks::Off;
-        // every sample's JSON for COCO, the first's alone for BOP's camera
-        let read = if coco {
-            rows.len()
-        } else {
-            usize::from(output.bop).min(rows.len())
-        };
-        let mut views = Vec::new();
-        for (k, row) in rows[..read].iter().enumerate() {
-            let rel = Path::new(&row.json);
-            let path = self.out.join(rel);
-            let plain = rel
-                .components()
-                .all(|c| matches!(c, std::path::Component::Normal(_)));
-            if !plain {
-                return Err(Error::Config(format!(
-                    "the manifest names {} for sample {}, outside the dataset folder",
-                    motorgen::shown(&row.json),
-                    row.index
-                )));
-            }
-            let bytes = sensor::files::read(&path, sensor::files::CONFIG_LIMIT)
-                .map_err(Error::io(&path))?;
-            let doc: SampleJson = serde_json::from_slice(&bytes)
-                .map_err(|e| Error::Config(format!("{}: {e}", path.display())))?;
-            if k == 0 && output.bop {
-                let camera = crate::bop::camera(&doc.sensor);
-                let folder = self.out.join(crate::bop::FOLDER);
-                plain_dir(&folder)?;
-                save(&folder.join("camera.json"), &|w| write_json(w, &camera))?;
-            }
-            views.extend(
-                doc.views
-                    .into_iter()
-                    .filter_map(|v| v.coco)
-                    .map(|c| (row.split.clone(), c)),
-            );
-        }
-        if !coco {
-            return Ok(());
-        }
-        crate::coco::gather(&self.out, output.scheme, &views)
     }
 }
 
