@@ -178,9 +178,10 @@ class ViewPlanningEnv(gymnasium.Env):
         # the directions the vector observation's coverage is told by
         self.facings = np.array([_direction(v) for v in sphere_views(FACINGS, -math.pi / 2, 1.0)])
         self.station: Station | None = None
-        # stations by (index, clamping), the most recently used last, each with the direction
-        # each of its surface samples faces (an index into `facings`) and how many face each
-        self._stations: dict[tuple[int, str], tuple[Station, np.ndarray, np.ndarray]] = {}
+        # stations by (index, clamping), the most recently used last, each with (for the vector
+        # observation) the direction each of its surface samples faces (an index into
+        # `facings`) and how many face each
+        self._stations: dict[tuple[int, str], tuple[Station, Any, Any]] = {}
         # the points, normals and view numbers of the episode's cloud (see `_add`)
         self._store = (
             np.zeros((0, 3), np.float32),
@@ -235,15 +236,18 @@ class ViewPlanningEnv(gymnasium.Env):
         self.occupancy = np.zeros(GRID**3, np.int8)
         return self._observation(), self._info(0.0)
 
-    def _station(self, index: int, clamping: str) -> tuple[Station, np.ndarray, np.ndarray]:
+    def _station(self, index: int, clamping: str) -> tuple[Station, Any, Any]:
         """The station of motor ``index`` in ``clamping`` with no view taken: one kept from an
         earlier episode, restarted (the same as a new one, without sampling its surface and
-        building its world again), or a new one; with its samples' facings."""
+        building its world again), or a new one; with its samples' facings for the vector
+        observation."""
         kept = self._stations.pop((index, clamping), None)
         if kept is None:
             station = Station(self.config, index, clamping, self.overrides, **self.coverage_rule)
-            facing = np.argmax(station.surface()["normal"] @ self.facings.T, axis=1)
-            kept = (station, facing, np.bincount(facing, minlength=FACINGS))
+            kept = (station, None, None)
+            if self.observation == "vector":
+                facing = np.argmax(station.surface()["normal"] @ self.facings.T, axis=1)
+                kept = (station, facing, np.bincount(facing, minlength=FACINGS))
         else:
             kept[0].restart()
         self._stations[(index, clamping)] = kept
@@ -279,7 +283,8 @@ class ViewPlanningEnv(gymnasium.Env):
 
     def _add(self, xyz: np.ndarray, normals: np.ndarray, view: int) -> None:
         """Appends a view's points (world; centred on the motor as they go in), their normals and
-        the view's number to the cloud."""
+        the view's number to the cloud, and for the vector observation marks the grid cells they
+        occupy."""
         n, m = len(self.cloud), len(xyz)
         if n + m > len(self._store[0]):
             size = max(2 * len(self._store[0]), n + m, 1 << 16)
@@ -296,6 +301,8 @@ class ViewPlanningEnv(gymnasium.Env):
         self.cloud = store_xyz[: n + m]
         self.cloud_normals = store_normals[: n + m]
         self.cloud_view = store_view[: n + m]
+        if self.observation != "vector":
+            return
         cell = np.floor((store_xyz[n : n + m] + GRID_EXTENT) * (GRID / (2 * GRID_EXTENT)))
         cell = cell[((cell >= 0) & (cell < GRID)).all(axis=1)].astype(np.int64)
         self.occupancy[cell[:, 0] + GRID * (cell[:, 1] + GRID * cell[:, 2])] = 1
