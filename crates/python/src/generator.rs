@@ -11,7 +11,7 @@ use pyo3::types::{PyDict, PyList, PyString};
 use scene::{Dataset, Shard, make, parse_value, sample_json, set_key};
 use sensor::PointCloud;
 
-use crate::{cloud_dict, image_arrays, json, scene_error, to_toml, work};
+use crate::{cloud_dict, image_arrays, json, scene_error, table_dict, to_toml, work};
 
 /// The configuration a user names: `config` a built-in configuration's name, a TOML file or a
 /// dict laid over the default configuration (the default one for `None`), with `overrides`
@@ -129,6 +129,16 @@ impl Generator {
         let dataset =
             Dataset::new(table, samples, seed, Shard::ALL, "".as_ref()).map_err(scene_error)?;
         Ok(Generator { dataset })
+    }
+
+    /// Pickles as its configuration (every key, its seed and number of samples): a copy in
+    /// another process makes the same samples.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, (Bound<'py, PyAny>,))> {
+        let config = table_dict(py, slf.get().dataset.table())?;
+        Ok((slf.get_type().into_any(), (config,)))
     }
 
     /// The configuration's number of samples.

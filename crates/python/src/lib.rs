@@ -5,6 +5,7 @@
 //! read or write `OSError`, with the messages of the command line.
 
 mod generator;
+mod motor;
 mod station;
 
 use std::path::PathBuf;
@@ -14,10 +15,8 @@ use glam::Vec3;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyBytes, PyDict, PyList, PyTuple};
 
-use motorgen::export::{earlier_output, write_motor};
-use motorgen::{Detail, Dist, Format, ParamSpace, Scheme, build};
 use sensor::{Material, PointCloud, Target, World, look_at};
 
 /// The extension's own allocator: a sample's buffers (tens of MB, made and freed on the thread
@@ -75,6 +74,13 @@ fn scene_error(e: scene::Error) -> PyErr {
 /// `text` parsed by Python's `json` module: the values a JSON file holds, as Python sees them.
 fn json<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?.call_method1("loads", (text,))
+}
+
+/// A configuration table as the dict `config` takes (laid over the default configuration,
+/// every key of it given): what pickling a configured object stores.
+fn table_dict<'py>(py: Python<'py>, table: &toml::Table) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(table).expect("a TOML table is JSON");
+    json(py, &text)
 }
 
 /// A Python value as a TOML value (bool, int, float, str, list, dict), for parameters and
@@ -162,192 +168,6 @@ fn image_arrays(d: &Bound<'_, PyDict>, scan: &sensor::Scan) -> PyResult<()> {
     Ok(())
 }
 
-/// One part of a motor: a closed mesh with its labels (motor frame, metres).
-#[pyclass(frozen, module = "motorfactory")]
-struct Part {
-    /// Unique name within the motor, e.g. `cover_bolt_2`.
-    #[pyo3(get)]
-    name: String,
-    /// What it is, e.g. `cover`, `side_bolt`.
-    #[pyo3(get)]
-    kind: String,
-    /// Its class id in the SynMotor labels (`synmotor7`: 1 cover, 2 gear container, 3 charger,
-    /// 4 bottom, 5 side bolt, 6 cover bolt; 0 for parts that scheme does not label).
-    #[pyo3(get)]
-    class_id: u8,
-    /// Instance id, unique within the motor, from 1.
-    #[pyo3(get)]
-    instance: u32,
-    vertices: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
-}
-
-#[pymethods]
-impl Part {
-    /// Vertex positions, N×3 float32, metres.
-    #[getter]
-    fn vertices<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        vectors(py, self.vertices.clone())
-    }
-
-    /// Vertex indices of each triangle, M×3 uint32, counter-clockwise seen from outside.
-    #[getter]
-    fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let flat: Vec<u32> = self.triangles.iter().flatten().copied().collect();
-        Ok(PyArray1::from_vec(py, flat)
-            .reshape([self.triangles.len(), 3])?
-            .into_any())
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "Part({}, {} vertices, {} triangles)",
-            self.name,
-            self.vertices.len(),
-            self.triangles.len()
-        )
-    }
-}
-
-/// A built motor: its parts, parameters and ground truth.
-#[pyclass(frozen, module = "motorfactory")]
-struct Motor {
-    motor: motorgen::Motor,
-}
-
-#[pymethods]
-impl Motor {
-    /// The parts, in the order `attributes["attributes"]["parts"]` lists them.
-    #[getter]
-    fn parts(&self) -> Vec<Part> {
-        self.motor
-            .parts
-            .iter()
-            .map(|p| Part {
-                name: p.name.clone(),
-                kind: serde_json::to_value(p.kind)
-                    .ok()
-                    .and_then(|v| v.as_str().map(String::from))
-                    .unwrap_or_default(),
-                class_id: Scheme::SynMotor.id(p.kind),
-                instance: p.instance,
-                vertices: p.mesh.positions.clone(),
-                triangles: p.mesh.triangles.clone(),
-            })
-            .collect()
-    }
-
-    /// The motor's ground truth as `attributes.json` holds it: parameters and derived
-    /// attributes (dimensions, parts with bounds, volumes, bolt positions).
-    #[getter]
-    fn attributes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json(py, &motorgen::export::motor_json(&self.motor).to_string())
-    }
-
-    /// The parameters the motor was built from, as `attributes.json` holds them.
-    #[getter]
-    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let doc = motorgen::export::motor_json(&self.motor);
-        json(py, &doc["params"].to_string())
-    }
-
-    /// Writes the motor to `folder` as `motorfactory motor` does: the whole motor and, with
-    /// `per_part`, each part in every format of `formats` (`obj`, `stl`, `ply`, `glb`), and
-    /// `attributes.json`. A folder holding an earlier motor is refused unless `replace`, which
-    /// removes that motor's files first. Returns the paths written.
-    #[pyo3(signature = (folder, formats = vec!["obj".to_string()], per_part = true, replace = false))]
-    fn save(
-        &self,
-        py: Python<'_>,
-        folder: PathBuf,
-        formats: Vec<String>,
-        per_part: bool,
-        replace: bool,
-    ) -> PyResult<Vec<PathBuf>> {
-        let formats = formats
-            .iter()
-            .map(|f| Format::parse(f.trim()))
-            .collect::<motorgen::Result<Vec<_>>>()
-            .map_err(motor_error)?;
-        work(py, || {
-            let earlier = earlier_output(&folder, false).map_err(motor_error)?;
-            if !earlier.is_empty() && !replace {
-                return Err(PyValueError::new_err(format!(
-                    "folder {} already holds a motor; pass replace=True to replace it, or \
-                     choose another folder",
-                    folder.display()
-                )));
-            }
-            for path in earlier {
-                std::fs::remove_file(&path)
-                    .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?;
-            }
-            write_motor(&self.motor, &folder, &formats, per_part).map_err(motor_error)
-        })
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "Motor({}, {} parts)",
-            self.motor.attributes.variant,
-            self.motor.parts.len()
-        )
-    }
-}
-
-/// The default batch configuration of `motorfactory motor` and `motors`, whose `[params]` the
-/// commands lay over their parameter space.
-const MOTORS_CONFIG: &str = include_str!("../../../configs/motors.toml");
-
-/// Builds a motor as `motorfactory motor` does (its defaults included). `params` fixes parameters (`{"type": "B", "gear_radius": 0.03}`) or gives
-/// them distributions (`{"gear_radius": {"uniform": [0.025, 0.035]}}`), as `motorfactory motor
-/// --set` does; the others keep their defaults, or with `random` are drawn from the add-on's
-/// generator. `seed` draws what is random; `detail` is `coarse`, `normal` or `fine`. See
-/// `motorfactory params` for every parameter.
-#[pyfunction]
-#[pyo3(signature = (params = None, seed = 0, random = false, detail = "normal"))]
-fn motor(
-    py: Python<'_>,
-    params: Option<&Bound<'_, PyDict>>,
-    seed: u64,
-    random: bool,
-    detail: &str,
-) -> PyResult<Motor> {
-    let mut space = if random {
-        ParamSpace::addon()
-    } else {
-        ParamSpace::defaults()
-    };
-    // the command's defaults first (configs/motors.toml's `[params]`: Torx bolts)
-    let batch: toml::Table = toml::from_str(MOTORS_CONFIG).expect("configs/motors.toml is TOML");
-    if let Some(toml::Value::Table(defaults)) = batch.get("params") {
-        for (key, value) in defaults {
-            let dist = Dist::from_toml(key, value.clone()).map_err(motor_error)?;
-            space.set(key, dist).map_err(motor_error)?;
-        }
-    }
-    for (key, value) in params.into_iter().flat_map(|d| d.iter()) {
-        let key: String = key.extract()?;
-        let value = match to_toml(&key, &value)? {
-            toml::Value::String(s) => Dist::from_cli(&key, &s),
-            other => Dist::from_toml(&key, other),
-        }
-        .map_err(motor_error)?;
-        space.set(&key, value).map_err(motor_error)?;
-    }
-    space.check().map_err(motor_error)?;
-    let detail: Detail =
-        serde_json::from_value(serde_json::Value::String(detail.into())).map_err(|_| {
-            PyValueError::new_err(format!(
-                "detail = \"{}\" is not allowed: expected coarse, normal or fine",
-                motorgen::shown(detail)
-            ))
-        })?;
-    let params = space.sample(seed).map_err(motor_error)?;
-    let motor = work(py, || build(&params, detail));
-    Ok(Motor { motor })
-}
-
 /// A scan: the sensor's organized image, pixel by pixel (rows × columns).
 #[pyclass(frozen, module = "motorfactory")]
 struct Scan {
@@ -383,8 +203,119 @@ impl Scan {
     }
 }
 
+/// Bytes a pixel takes in a pickled [`Scan`]: its fields in order, little-endian.
+const PIXEL_BYTES: usize = 3 * 12 + 2 + 4 + 4 + 3 + 4 + 4 + 1 + 1;
+
+/// A scan from its pickled bytes (see `Scan.__reduce__`): how a pickled [`Scan`] is made
+/// again.
+#[pyfunction]
+fn _scan(
+    size: (u32, u32),
+    pose: [f32; 12],
+    window: ((usize, usize), (usize, usize)),
+    pixels: &[u8],
+) -> PyResult<Scan> {
+    let ((width, height), ((c0, c1), (r0, r1))) = (size, window);
+    if pixels.len() != width as usize * height as usize * PIXEL_BYTES {
+        return Err(PyValueError::new_err(
+            "a pickled scan: its pixels are cut short",
+        ));
+    }
+    let pixels = pixels
+        .chunks_exact(PIXEL_BYTES)
+        .map(|b| {
+            let mut f = Fields(b);
+            sensor::Pixel {
+                point: f.vec3(),
+                clean: f.vec3(),
+                normal: f.vec3(),
+                class: u16::from_le_bytes(f.bytes()),
+                instance: u32::from_le_bytes(f.bytes()),
+                intensity: f.f32(),
+                rgb: f.bytes(),
+                snr: f.f32(),
+                incidence: f.f32(),
+                wear: f.bytes::<1>()[0],
+                indirect: f.bytes::<1>()[0],
+            }
+        })
+        .collect();
+    Ok(Scan {
+        scan: sensor::Scan {
+            width,
+            height,
+            pixels,
+            pose: glam::Affine3A::from_cols_slice(&pose),
+            window: sensor::Window {
+                cols: c0..c1,
+                rows: r0..r1,
+            },
+        },
+    })
+}
+
+/// A pickled pixel's bytes, read field by field in order.
+struct Fields<'a>(&'a [u8]);
+
+impl Fields<'_> {
+    fn bytes<const N: usize>(&mut self) -> [u8; N] {
+        let (head, rest) = self.0.split_at(N);
+        self.0 = rest;
+        head.try_into().expect("N bytes")
+    }
+
+    fn f32(&mut self) -> f32 {
+        f32::from_le_bytes(self.bytes())
+    }
+
+    fn vec3(&mut self) -> Vec3 {
+        let x = self.f32();
+        let y = self.f32();
+        Vec3::new(x, y, self.f32())
+    }
+}
+
+/// What pickling a [`Scan`] stores: its size, pose, window and pixels' bytes.
+type ScanFields<'py> = (
+    (u32, u32),
+    [f32; 12],
+    ((usize, usize), (usize, usize)),
+    Bound<'py, PyBytes>,
+);
+
 #[pymethods]
 impl Scan {
+    /// Pickles as its pixels, every field, to the bit.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, ScanFields<'py>)> {
+        let remake = py.import("motorfactory._core")?.getattr("_scan")?;
+        let s = &self.scan;
+        let mut bytes = Vec::with_capacity(s.pixels.len() * PIXEL_BYTES);
+        for p in &s.pixels {
+            for v in [p.point, p.clean, p.normal] {
+                v.to_array()
+                    .iter()
+                    .for_each(|x| bytes.extend(x.to_le_bytes()));
+            }
+            bytes.extend(p.class.to_le_bytes());
+            bytes.extend(p.instance.to_le_bytes());
+            bytes.extend(p.intensity.to_le_bytes());
+            bytes.extend(p.rgb);
+            bytes.extend(p.snr.to_le_bytes());
+            bytes.extend(p.incidence.to_le_bytes());
+            bytes.extend([p.wear, p.indirect]);
+        }
+        let fields = (
+            (s.width, s.height),
+            s.pose.to_cols_array(),
+            (
+                (s.window.cols.start, s.window.cols.end),
+                (s.window.rows.start, s.window.rows.end),
+            ),
+            PyBytes::new(py, &bytes),
+        );
+        Ok((remake, fields))
+    }
+
     /// Measured points, camera frame, metres; NaN where a pixel has none.
     #[getter]
     fn xyz<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
@@ -554,10 +485,17 @@ fn scan(
 /// The package's extension module.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(motor, m)?)?;
+    m.add_function(wrap_pyfunction!(motor::motor, m)?)?;
+    m.add_function(wrap_pyfunction!(motor::_motor_from_params, m)?)?;
+    m.add_function(wrap_pyfunction!(motor::_part, m)?)?;
+    m.add_function(wrap_pyfunction!(_scan, m)?)?;
+    // what unpickling calls, not offered: out of the names `import *` takes
+    for name in ["_motor_from_params", "_part", "_scan"] {
+        m.index()?.call_method1("remove", (name,))?;
+    }
     m.add_function(wrap_pyfunction!(scan, m)?)?;
-    m.add_class::<Motor>()?;
-    m.add_class::<Part>()?;
+    m.add_class::<motor::Motor>()?;
+    m.add_class::<motor::Part>()?;
     m.add_class::<Scan>()?;
     m.add_class::<generator::Generator>()?;
     m.add_class::<station::Station>()?;

@@ -15,12 +15,17 @@ use scene::rig::on_cap;
 use scene::{Clamping, Dataset, Shard};
 
 use crate::generator::config_table;
-use crate::{cloud_dict, scene_error, vectors, work};
+use crate::{cloud_dict, scene_error, table_dict, vectors, work};
 
 /// One motor of a dataset configuration clamped at the inspection station.
 #[pyclass(module = "motorfactory")]
 pub(crate) struct Station {
     station: scene::Station,
+    /// What it was made from: its configuration (every key), the motor's sample index, the
+    /// clamping, the surface's density and the coverage rule.
+    made: (toml::Table, u64, Clamping, f32, Rule),
+    /// The views taken since it was made or restarted: azimuth, elevation, distance and roll.
+    taken: Vec<[f32; 4]>,
 }
 
 impl Station {
@@ -90,7 +95,11 @@ impl Station {
             scene::Station::new(&recipe, index, clamping, density, rule)
         })
         .map_err(scene_error)?;
-        Ok(Station { station })
+        Ok(Station {
+            station,
+            made: (dataset.table().clone(), index, clamping, density, rule),
+            taken: Vec::new(),
+        })
     }
 
     /// The motor's centre, world, m: the point views look at.
@@ -116,6 +125,48 @@ impl Station {
     /// motor, cell and surface samples kept rather than made again.
     fn restart(&mut self) {
         self.station.restart();
+        self.taken.clear();
+    }
+
+    /// Pickles as what it was made from and the views taken since: a copy in another process
+    /// takes them again and is the same station.
+    #[allow(clippy::type_complexity)]
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+        py: Python<'py>,
+    ) -> PyResult<(
+        Bound<'py, PyAny>,
+        (
+            Bound<'py, PyAny>,
+            u64,
+            &'static str,
+            Option<()>,
+            f32,
+            f32,
+            f32,
+        ),
+        Vec<[f32; 4]>,
+    )> {
+        let this = slf.borrow();
+        let (table, index, clamping, density, rule) = &this.made;
+        let made = (
+            table_dict(py, table)?,
+            *index,
+            clamping.name(),
+            None,
+            *density,
+            rule.radius,
+            rule.max_angle_deg,
+        );
+        Ok((slf.get_type().into_any(), made, this.taken.clone()))
+    }
+
+    /// Takes the views of a pickled station again (see `__reduce__`).
+    fn __setstate__(&mut self, py: Python<'_>, taken: Vec<[f32; 4]>) -> PyResult<()> {
+        for [azimuth, elevation, distance, roll] in taken {
+            self.capture(py, azimuth, elevation, distance, roll)?;
+        }
+        Ok(())
     }
 
     /// The camera-to-world pose (4×4, OpenCV axes) of the view at `azimuth`, `elevation`,
@@ -148,6 +199,7 @@ impl Station {
         roll: f32,
     ) -> PyResult<Bound<'py, PyDict>> {
         let pose = self.pose(azimuth, elevation, distance, roll)?;
+        self.taken.push([azimuth, elevation, distance, roll]);
         let station = &mut self.station;
         let (gain, cloud) = work(py, || {
             let got = station.capture(&pose);

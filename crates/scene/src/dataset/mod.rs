@@ -246,6 +246,12 @@ impl Dataset {
         self.base.sensor()
     }
 
+    /// The configuration table it was made from, its samples and seed set: a dataset made
+    /// from it is this one.
+    pub fn table(&self) -> &toml::Table {
+        &self.table
+    }
+
     /// The resolved configuration, as the dataset's `config.toml` holds it.
     pub fn resolved(&self) -> &str {
         &self.resolved
