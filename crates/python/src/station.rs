@@ -163,9 +163,19 @@ impl Station {
 
     /// Takes the views of a pickled station again (see `__reduce__`).
     fn __setstate__(&mut self, py: Python<'_>, taken: Vec<[f32; 4]>) -> PyResult<()> {
-        for [azimuth, elevation, distance, roll] in taken {
-            self.capture(py, azimuth, elevation, distance, roll)?;
-        }
+        let poses = taken
+            .iter()
+            .map(|&[azimuth, elevation, distance, roll]| {
+                self.pose(azimuth, elevation, distance, roll)
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let station = &mut self.station;
+        work(py, || {
+            for pose in &poses {
+                station.capture(pose);
+            }
+        });
+        self.taken.extend(taken);
         Ok(())
     }
 
