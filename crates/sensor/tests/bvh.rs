@@ -395,6 +395,14 @@ proptest! {
                 for (g, k) in (0..4).flat_map(|g| (0..4).map(move |k| (g, k))) {
                     let one = reach[g][k] > 0.0 && bvh.occluded(o[g][k], dirs[g][k], reach[g][k]);
                     prop_assert_eq!(blocked[g][k], one, "occlusion, lane {}.{}, scale {}", g, k, scale);
+                    // the occluder named blocks the ray by the walk's own test
+                    let occluder = (reach[g][k] > 0.0)
+                        .then(|| bvh.occluder(o[g][k], dirs[g][k], reach[g][k]))
+                        .flatten();
+                    prop_assert_eq!(occluder.is_some(), one);
+                    if let Some(slot) = occluder {
+                        prop_assert!(bvh.blocks(slot, o[g][k], dirs[g][k], reach[g][k]));
+                    }
                 }
             }
             for (g, k) in (0..4).flat_map(|g| (0..4).map(move |k| (g, k))) {

@@ -208,15 +208,32 @@ impl Bvh {
     /// Whether anything lies on `origin + t·dir` for `t` in (0, `t_max`).
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+        self.occluder(origin, dir, t_max).is_some()
+    }
+
+    /// The slot of a triangle on `origin + t·dir` for `t` in (0, `t_max`): the first the walk
+    /// meets, not necessarily the nearest; `None` where [`Bvh::occluded`] is false.
+    #[inline]
+    pub fn occluder(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<u32> {
         let ray = ShearedRay::new(origin, dir);
-        let mut blocked = false;
+        let mut found = None;
         self.walk_one(origin, dir, t_max, |slot, reach| {
             if ray.intersect(&self.tris[slot as usize], t_max).is_some() {
-                blocked = true;
+                found = Some(slot);
                 *reach = -1.0; // done
             }
         });
-        blocked
+        found
+    }
+
+    /// Whether the triangle in slot `slot` lies on `origin + t·dir` for `t` in (0, `t_max`),
+    /// by the test the walks make: where it does, [`Bvh::occluded`] is true (an occluder found
+    /// for one ray, tried first on its neighbours, spares their walks).
+    #[inline]
+    pub fn blocks(&self, slot: u32, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+        ShearedRay::new(origin, dir)
+            .intersect(&self.tris[slot as usize], t_max)
+            .is_some()
     }
 
     /// [`Bvh::occluded`] for a packet of rays, `G` groups of four, traced together (see

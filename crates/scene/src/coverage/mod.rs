@@ -2,15 +2,17 @@
 //! part and instance, and which samples a set of views observes (a measured point near it, and
 //! the sample facing both the camera and the projector).
 
+use crate::cell::Object;
 use glam::{Affine3A, Vec3};
 use motorgen::PartKind;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use sensor::{Classes, Scan, SensorSpec, Target, World};
-use std::sync::LazyLock;
 
-use crate::cell::Object;
+mod exposure;
+
+pub use exposure::{exposed, exposed_each};
 
 /// Points spread evenly by area over surfaces, with their normals and what they belong to.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -34,10 +36,7 @@ impl Surface {
     pub fn sample(objects: &[Object], density: f32, seed: u64) -> Surface {
         let all = Surface::sample_all(objects, density, seed);
         let motor = motor_world(objects);
-        let shown: Vec<bool> = (0..all.len())
-            .into_par_iter()
-            .map(|i| exposed(&motor, all.points[i], all.normals[i]))
-            .collect();
+        let shown = exposed_each(&motor, &all.points, &all.normals);
         fn keep<T: Copy>(v: &[T], shown: &[bool]) -> Vec<T> {
             v.iter()
                 .zip(shown)
@@ -137,55 +136,6 @@ fn motor_world(objects: &[Object]) -> World {
         })
         .collect();
     World::new(&targets)
-}
-
-/// How many directions [`exposed`] tries.
-const DIRECTION_COUNT: usize = 128;
-
-/// Directions spread evenly over the sphere (a Fibonacci lattice).
-static DIRECTIONS: LazyLock<Vec<Vec3>> = LazyLock::new(|| {
-    const N: usize = DIRECTION_COUNT;
-    (0..N)
-        .map(|i| {
-            let z = 1.0 - (2 * i + 1) as f32 / N as f32;
-            let r = (1.0 - z * z).sqrt();
-            let (sin, cos) = (i as f32 * 2.399_963).sin_cos();
-            Vec3::new(r * cos, r * sin, z)
-        })
-        .collect()
-});
-
-/// Whether the surface point `p` with outward `normal` can be seen from outside the motor
-/// (`motor`): along one of 128 directions spread over the sphere, of those facing out of its
-/// surface, a bundle of rays 1 mm across leaves the motor (the centre ray and four 0.5 mm
-/// beside it, so that the gaps between parts and crevices under a millimetre do not count).
-/// The magnets inside the pole pot are hidden; of the armature and the gears, what the shaft's
-/// hole and the gear container's openings show is not.
-pub fn exposed(motor: &World, p: Vec3, normal: Vec3) -> bool {
-    let from = p + 1e-5 * normal;
-    let leaves = |o: Vec3, d: Vec3| !motor.occluded(o, d, f32::INFINITY);
-    // the directions facing out, the most outward first (where a bundle most likely leaves):
-    // the answer is the same in any order, and found sooner
-    let mut facing = [(0.0f32, Vec3::ZERO); DIRECTION_COUNT];
-    let mut count = 0;
-    for &d in DIRECTIONS.iter() {
-        let cos = d.dot(normal);
-        if cos > 0.05 {
-            facing[count] = (cos, d);
-            count += 1;
-        }
-    }
-    facing[..count].sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-    facing[..count].iter().map(|&(_, d)| d).any(|d| {
-        let (a, b) = d.any_orthonormal_pair();
-        leaves(from, d)
-            && [a, -a, b, -b].iter().all(|&o| {
-                // beside the centre ray, from the surface's tangent plane
-                let side = from + 5e-4 * o;
-                let back = (side - from).dot(normal) / d.dot(normal);
-                leaves(side - back * d, d)
-            })
-    })
 }
 
 /// When a view observes a surface sample.
