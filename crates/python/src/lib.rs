@@ -7,6 +7,7 @@
 mod generator;
 mod motor;
 mod station;
+mod write;
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -494,6 +495,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.index()?.call_method1("remove", (name,))?;
     }
     m.add_function(wrap_pyfunction!(scan, m)?)?;
+    m.add_function(wrap_pyfunction!(write::write, m)?)?;
     m.add_class::<motor::Motor>()?;
     m.add_class::<motor::Part>()?;
     m.add_class::<Scan>()?;

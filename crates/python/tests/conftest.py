@@ -16,3 +16,15 @@ def cli() -> pathlib.Path:
     if not path.is_file():
         subprocess.run(["cargo", "build", "--release", "-q"], cwd=ROOT, check=True)
     return path
+
+
+def dataset_files(folder: pathlib.Path) -> "dict[str, bytes]":
+    """Every file of a dataset folder but the shards' manifests and the runs' lock files: what
+    two runs that wrote the same dataset hold alike, byte for byte."""
+    return {
+        str(p.relative_to(folder)): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+        and not p.name.startswith("manifest-")
+        and ".motorfactory" not in p.relative_to(folder).parts
+    }

@@ -6,6 +6,7 @@ import subprocess
 
 import numpy as np
 import pytest
+from conftest import dataset_files
 
 import motorfactory as mf
 
@@ -87,3 +88,25 @@ def test_cli_and_package_refuse_a_config_alike(cli, tmp_path):
     with pytest.raises(ValueError) as raised:
         mf.Generator(str(bad))
     assert str(raised.value) in run.stderr
+
+
+def test_write_is_what_generate_writes_for_the_whole_and_for_shards(cli, tmp_path):
+    sets = {"sensor.sampling": "blueSubsample4x4"}
+    subprocess.run(
+        [cli, "generate", "-n", "3", "--quiet", "--out", tmp_path / "cli",
+         "--set", "sensor.sampling=blueSubsample4x4"],
+        check=True,
+    )
+    counts = mf.write(tmp_path / "whole", "default", samples=3, overrides=sets)
+    assert counts["made"] == 3 and counts["skipped"] == 0 and counts["empty"] == []
+    assert dataset_files(tmp_path / "whole") == dataset_files(tmp_path / "cli")
+    # two shards, the second finishing the dataset; then a resume finds nothing left to make
+    first = mf.write(tmp_path / "shards", "default", samples=3, overrides=sets, shard=(0, 2))
+    second = mf.write(tmp_path / "shards", "default", samples=3, overrides=sets, shard=(1, 2))
+    assert (first["made"], second["made"]) == (2, 1)
+    assert dataset_files(tmp_path / "shards") == dataset_files(tmp_path / "cli")
+    again = mf.write(tmp_path / "shards", "default", samples=3, overrides=sets, resume=True)
+    assert (again["made"], again["skipped"]) == (0, 3)
+    with pytest.raises(ValueError, match=r"shard = \(2, 2\) is not allowed"):
+        mf.write(tmp_path / "bad", shard=(2, 2))
+    assert not (tmp_path / "bad").exists()

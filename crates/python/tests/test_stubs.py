@@ -1,6 +1,8 @@
 """The type stubs against the extension module (mypy's stubtest, from the package registry), and
 a docstring on everything the package offers."""
 
+import importlib
+import importlib.util
 import inspect
 import subprocess
 import sys
@@ -24,7 +26,10 @@ def test_the_stubs_are_the_extension_modules():
 
 def test_everything_offered_has_a_docstring():
     missing = []
-    for module in (mf, mg, mnn, msb3, mt):
+    modules = [mf, mg, mnn, msb3, mt]
+    if importlib.util.find_spec("ray") is not None:
+        modules.append(importlib.import_module("motorfactory.ray"))
+    for module in modules:
         assert module.__doc__, module.__name__
         names = getattr(module, "__all__", None) or [
             n for n, v in vars(module).items()

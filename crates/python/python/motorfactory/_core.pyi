@@ -21,6 +21,7 @@ __all__ = [
     "__version__",
     "motor",
     "scan",
+    "write",
 ]
 
 _Cloud = Dict[str, npt.NDArray[Any]]
@@ -102,6 +103,16 @@ def scan(
     sampling: str = "all",
     material: str = "grey-plastic",
 ) -> Scan: ...
+
+def write(
+    out: Union[str, PathLike[str]],
+    config: Union[None, str, PathLike[str], Mapping[str, Any]] = None,
+    samples: Optional[int] = None,
+    seed: Optional[int] = None,
+    overrides: Optional[Mapping[str, Any]] = None,
+    shard: Tuple[int, int] = ...,
+    resume: bool = False,
+) -> Dict[str, Any]: ...
 
 @final
 class Generator:
