@@ -64,10 +64,9 @@ def test_n_may_exceed_the_configurations_own_count(cluster, samples):
     assert_rows_are_the_samples(rows, samples[:4])
 
 
-def kill_a_worker_running(task: str, work) -> "tuple[int, object]":
+def kill_a_worker_running(task: str, work):
     """Runs `work` in a thread, kills (SIGKILL) the first worker process seen running `task`
-    (a worker names itself after the task it runs), and returns the process killed and what
-    `work` returned."""
+    (a worker names itself after the task it runs), and returns what `work` returned."""
     out = {}
     running = threading.Thread(target=lambda: out.update(result=work()))
     running.start()
@@ -82,14 +81,14 @@ def kill_a_worker_running(task: str, work) -> "tuple[int, object]":
         time.sleep(0.02)
     running.join(600)
     assert killed is not None, f"no {task} task was seen running"
-    return killed, out["result"]
+    return out["result"]
 
 
 def test_a_worker_killed_mid_read_is_retried_and_gives_the_same_rows(cluster, samples):
     ds = read_motorfactory(
         "default", n=N, seed=SEED, overrides=OVERRIDES, parallelism=2, columns=["index", "xyz"]
     )
-    _, rows = kill_a_worker_running("ReadMotorfactory", lambda: list(ds.iter_rows()))
+    rows = kill_a_worker_running("ReadMotorfactory", lambda: list(ds.iter_rows()))
     assert_rows_are_the_samples(rows, samples, columns=["xyz"])
 
 
@@ -117,7 +116,7 @@ def test_a_shard_whose_worker_dies_is_redone_alone_and_the_folder_is_the_same(
     cluster, generated, tmp_path
 ):
     out = tmp_path / "data"
-    _, counts = kill_a_worker_running(
+    counts = kill_a_worker_running(
         "_write_one", lambda: write("default", N, out, SEED, overrides=OVERRIDES, shards=2)
     )
     # every sample made once in all, by the first tries or by the retried one

@@ -88,7 +88,12 @@ class MotorfactoryDatasource(Datasource):
         return "Motorfactory"
 
     def estimate_inmemory_data_size(self) -> Optional[int]:
-        return len(self._indices) * self._points * self._bytes_per_point
+        return self._size(len(self._indices))
+
+    def _size(self, rows: int) -> int:
+        """The estimated bytes of `rows` samples: without an estimate Ray budgets a block of
+        its maximum size for every task and runs one task at a time."""
+        return rows * self._points * self._bytes_per_point
 
     def get_read_tasks(
         self,
@@ -104,11 +109,11 @@ class MotorfactoryDatasource(Datasource):
             if start == stop:
                 continue
             chunk = self._indices[start:stop]
-            # an estimate: without it Ray budgets a block of its maximum size for every task
-            # and runs one task at a time
-            size = len(chunk) * self._points * self._bytes_per_point
             meta = BlockMetadata(
-                num_rows=len(chunk), size_bytes=size, exec_stats=None, input_files=None
+                num_rows=len(chunk),
+                size_bytes=self._size(len(chunk)),
+                exec_stats=None,
+                input_files=None,
             )
             read.append(
                 ReadTask(
@@ -223,8 +228,8 @@ def write(
     max_retries: int = 3,
 ) -> Dict[str, int]:
     """Writes the dataset folder ``motorfactory generate`` writes (``n`` samples of a
-    configuration, its own count for ``None``, into ``out``, a folder every node reaches), byte for byte, as ``shards`` Ray
-    tasks (the cluster's CPUs by default), each :func:`motorfactory.write` of one shard with
+    configuration, its own count for ``None``, into ``out``, a folder every node reaches), byte
+    for byte, as ``shards`` Ray tasks (the cluster's CPUs by default), each :func:`motorfactory.write` of one shard with
     ``resume``: the shard that finishes last writes the merged manifest, and a task Ray retries
     after its worker died (up to ``max_retries`` times) makes only those of its own samples the
     dead one left. ``num_cpus`` is a task's CPUs. Returns the counts summed over the shards
@@ -234,7 +239,8 @@ def write(
     if count < 1:
         raise ValueError(f"shards = {count} is not allowed: expected at least 1")
     folder = os.path.abspath(out)
-    task = ray.remote(_write_one).options(num_cpus=num_cpus or 1, max_retries=max_retries)
+    cpus = 1 if num_cpus is None else num_cpus
+    task = ray.remote(_write_one).options(num_cpus=cpus, max_retries=max_retries)
     done = ray.get([task.remote(table, folder, (i, count)) for i in range(count)])
     total = {"made": 0, "skipped": 0, "points": 0, "empty": 0}
     for counts in done:

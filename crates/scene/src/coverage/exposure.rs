@@ -1,5 +1,5 @@
-//! Which surface samples can be seen from outside the motor: one sample by single rays
-//! ([`exposed`]), many by packets of rays that share their direction ([`exposed_each`]), with
+//! Which surface samples can be seen from outside the motor: one sample alone ([`exposed`]),
+//! or many, nearby samples together sharing what blocked their rays ([`exposed_each`]), with
 //! the same answers.
 
 use glam::Vec3;
