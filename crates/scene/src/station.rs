@@ -83,8 +83,11 @@ impl Station {
             clamping,
         };
         let cell = compose(&motor, &recipe.config.cell, vary, &mut Seed::Cell.rng(seed));
-        let surface = Surface::sample(&cell.objects, density, Seed::Surface.of(seed));
-        let world = World::new(&cell.targets(recipe.config.output.scheme));
+        // the world is built beside the surface's serial start (its samples and their world)
+        let (surface, world) = rayon::join(
+            || Surface::sample(&cell.objects, density, Seed::Surface.of(seed)),
+            || World::new(&cell.targets(recipe.config.output.scheme)),
+        );
         let bounds = transform_box(&motor.attributes.bounds, &cell.motor_to_world);
         Ok(Station {
             variant: motor.attributes.variant,

@@ -8,7 +8,7 @@ use sensor::World;
 use std::sync::LazyLock;
 
 /// How many directions [`exposed`] tries.
-const DIRECTION_COUNT: usize = 128;
+const DIRECTION_COUNT: usize = 64;
 
 /// Directions spread evenly over the sphere (a Fibonacci lattice).
 static DIRECTIONS: LazyLock<Vec<Vec3>> = LazyLock::new(|| {
@@ -42,7 +42,7 @@ fn bundle(p: Vec3, normal: Vec3, d: Vec3) -> (Vec3, [Vec3; 4]) {
 }
 
 /// Whether the surface point `p` with outward `normal` can be seen from outside the motor
-/// (`motor`): along one of 128 directions spread over the sphere, of those facing out of its
+/// (`motor`): along one of 64 directions spread over the sphere, of those facing out of its
 /// surface, a bundle of rays 1 mm across leaves the motor (the centre ray and four 0.5 mm
 /// beside it, so that the gaps between parts and crevices under a millimetre do not count).
 /// The magnets inside the pole pot are hidden; of the armature and the gears, what the shaft's
