@@ -3,6 +3,7 @@
 use std::ops::Range;
 
 use glam::{Affine3A, Vec3};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::bvh::{Bvh, Hit};
@@ -147,24 +148,25 @@ impl World {
     /// Builds the world. Triangles with repeated vertices or zero area cannot be hit and are
     /// kept only for numbering.
     pub fn new(targets: &[Target]) -> World {
-        let count: usize = targets.iter().map(|t| t.triangles.len()).sum();
-        let mut corners = Vec::with_capacity(count);
-        let mut tris = Vec::with_capacity(count);
-        for (k, t) in targets.iter().enumerate() {
-            for (i, tri) in t.triangles.iter().enumerate() {
-                let c = tri.map(|v| t.positions[v as usize]);
-                let class = match &t.classes {
-                    Classes::Uniform(c) => *c,
-                    Classes::PerTriangle(v) => v[i],
-                };
-                tris.push(TriInfo {
-                    normal: (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero(),
-                    class,
-                    target: k as u32,
-                });
-                corners.push(c);
-            }
-        }
+        let (corners, tris): (Vec<[Vec3; 3]>, Vec<TriInfo>) = targets
+            .par_iter()
+            .enumerate()
+            .flat_map(|(k, t)| {
+                t.triangles.par_iter().enumerate().map(move |(i, tri)| {
+                    let c = tri.map(|v| t.positions[v as usize]);
+                    let class = match &t.classes {
+                        Classes::Uniform(c) => *c,
+                        Classes::PerTriangle(v) => v[i],
+                    };
+                    let info = TriInfo {
+                        normal: (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero(),
+                        class,
+                        target: k as u32,
+                    };
+                    (c, info)
+                })
+            })
+            .unzip();
         World {
             bvh: Bvh::build(&corners),
             tris,

@@ -189,6 +189,37 @@ fn coincident_and_degenerate_triangles_build_a_shallow_tree() {
     assert_eq!(h.triangle, 40_000);
 }
 
+#[test]
+fn a_tree_is_the_same_whatever_the_threads() {
+    // 60,000 scattered triangles, a grid of 20,000 (ties between equal boxes) and 10,000
+    // copies of one triangle (no SAH split): ranges large enough to be split on two threads
+    let mut state = 17u64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut tris: Vec<[Vec3; 3]> = (0..60_000)
+        .map(|_| {
+            let c = Vec3::new(next(), next(), next()) * 10.0;
+            [0; 3].map(|_| c + Vec3::new(next(), next(), next()) * 0.1)
+        })
+        .collect();
+    tris.extend(grid(100, |a, b| Vec3::new(a as f32, b as f32, 3.0)));
+    tris.extend(vec![tris[0]; 10_000]);
+    let built = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| Bvh::build(&tris))
+    };
+    let one = built(1);
+    assert_eq!(one.len(), tris.len());
+    assert!(one == built(2) && one == built(3));
+}
+
 /// A closed cube of side 2 about the origin, each face an n x n grid of quad pairs.
 fn grid_cube(n: usize) -> Vec<[Vec3; 3]> {
     let mut tris = Vec::new();

@@ -1,9 +1,11 @@
 //! Building the 4-wide tree: a binary tree by binned surface-area heuristic (SAH) splits of
 //! the triangles' centroids, falling back to median splits where SAH cannot split or the tree
 //! grows deep (equal centroids, coincident or degenerate triangles), so that any input builds in
-//! O(n log n); then collapsed four children to a node with the leaves in traversal order.
+//! O(n log n), the two halves of a large range on two threads; then collapsed four children to
+//! a node with the leaves in traversal order.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::{Bvh, LEAF, Node4};
 
@@ -27,6 +29,9 @@ const BINS: usize = 16;
 /// the depth of any tree by this plus log2 of its size.
 const SAH_DEPTH: u32 = 48;
 
+/// Ranges of at least this many triangles build their two halves' trees on two threads.
+const PARALLEL: usize = 4096;
+
 impl Bvh {
     /// Builds the hierarchy over triangles given by vertex positions.
     pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
@@ -41,9 +46,13 @@ impl Bvh {
         }
         let binary = binary_tree(triangles);
         bvh.nodes.reserve(triangles.len() / 2);
-        bvh.tris.reserve(triangles.len());
         bvh.order.reserve(triangles.len());
-        let root = bvh.collapse(&binary, 0, triangles);
+        let root = bvh.collapse(&binary, 0);
+        bvh.tris = bvh
+            .order
+            .par_iter()
+            .map(|&i| triangles[i as usize])
+            .collect();
         if root & LEAF != 0 {
             // a lone triangle: give it a node, so that every walk starts at node 0
             let mut node = Node4::VACANT;
@@ -60,16 +69,17 @@ impl Bvh {
 
     /// The child code of binary node `i`, building 4-wide nodes below it. Leaves take the next
     /// triangle slots, so triangles end up in traversal order.
-    fn collapse(&mut self, binary: &[Node], i: usize, triangles: &[[Vec3; 3]]) -> u32 {
+    fn collapse(&mut self, binary: &[Node], i: usize) -> u32 {
         let n = &binary[i];
         if n.prim != INTERNAL {
             self.order.push(n.prim);
-            self.tris.push(triangles[n.prim as usize]);
-            return LEAF | (self.tris.len() as u32 - 1);
+            return LEAF | (self.order.len() as u32 - 1);
         }
         // open the largest internal child (of equals, the first made) until there are four
-        let mut kids = vec![n.child as usize, n.child as usize + 1];
-        while kids.len() < 4 {
+        let mut lanes = [n.child as usize, n.child as usize + 1, 0, 0];
+        let mut count = 2;
+        while count < 4 {
+            let kids = &mut lanes[..count];
             let area = |k: usize| {
                 let e = binary[k].max - binary[k].min;
                 e.x * e.y + e.y * e.z + e.z * e.x
@@ -86,17 +96,18 @@ impl Bvh {
             };
             let c = binary[kids[open]].child as usize;
             kids[open] = c;
-            kids.push(c + 1);
+            lanes[count] = c + 1;
+            count += 1;
         }
         let index = self.nodes.len();
         self.nodes.push(Node4::VACANT);
         let mut node = Node4::VACANT;
-        for (lane, &k) in kids.iter().enumerate() {
+        for (lane, &k) in lanes[..count].iter().enumerate() {
             for axis in 0..3 {
                 node.bounds[axis][lane] = binary[k].min[axis];
                 node.bounds[axis + 3][lane] = binary[k].max[axis];
             }
-            node.child[lane] = self.collapse(binary, k, triangles);
+            node.child[lane] = self.collapse(binary, k);
         }
         self.nodes[index] = node;
         index as u32
@@ -118,10 +129,12 @@ struct Prim {
     index: u32,
 }
 
-/// The binary tree over `triangles`, its root at 0 and each node's children side by side.
+/// The binary tree over `triangles`, its root at 0 and each node's children side by side, the
+/// nodes in the order of a depth-first build (whatever the threads: a subtree over k triangles
+/// takes the 2k − 2 places after its root's pair).
 fn binary_tree(triangles: &[[Vec3; 3]]) -> Vec<Node> {
     let mut prims: Vec<Prim> = triangles
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, t)| {
             let (min, max) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
@@ -133,9 +146,11 @@ fn binary_tree(triangles: &[[Vec3; 3]]) -> Vec<Node> {
             }
         })
         .collect();
-    let mut nodes = Vec::with_capacity(2 * prims.len());
-    nodes.push(leaf_or_box(&prims));
-    split(&mut nodes, 0, &mut prims, 0);
+    let mut nodes = vec![leaf_or_box(&prims); 2 * prims.len() - 1];
+    if prims.len() > 1 {
+        nodes[0].child = 1;
+        split(&mut nodes[1..], 1, &mut prims, 0);
+    }
     nodes
 }
 
@@ -158,19 +173,34 @@ fn leaf_or_box(prims: &[Prim]) -> Node {
     }
 }
 
-/// Splits node `at` (holding `prims`, two or more, or a leaf) and its descendants.
-fn split(nodes: &mut Vec<Node>, at: usize, prims: &mut [Prim], depth: u32) {
-    if prims.len() < 2 {
-        return;
-    }
+/// Builds the descendants of a node holding `prims` (two or more) at `depth` into `below`
+/// (2·len − 2 places, the first at index `base`): its two children, then the left child's
+/// descendants, then the right's.
+fn split(below: &mut [Node], base: u32, prims: &mut [Prim], depth: u32) {
+    let parallel = prims.len() >= PARALLEL;
     let mid = partition(prims, depth);
     let (left, right) = prims.split_at_mut(mid);
-    let child = nodes.len();
-    nodes[at].child = child as u32;
-    nodes.push(leaf_or_box(left));
-    nodes.push(leaf_or_box(right));
-    split(nodes, child, left, depth + 1);
-    split(nodes, child + 1, right, depth + 1);
+    let (pair, rest) = below.split_at_mut(2);
+    let (left_below, right_below) = rest.split_at_mut(2 * left.len() - 2);
+    let bases = [base + 2, base + 2 + left_below.len() as u32];
+    let halves = [(left_below, bases[0], left), (right_below, bases[1], right)];
+    for (node, (_, base, prims)) in pair.iter_mut().zip(&halves) {
+        *node = leaf_or_box(prims);
+        if prims.len() > 1 {
+            node.child = *base;
+        }
+    }
+    let build = |(below, base, prims): (&mut [Node], u32, &mut [Prim])| {
+        if prims.len() > 1 {
+            split(below, base, prims, depth + 1);
+        }
+    };
+    if parallel {
+        let [a, b] = halves;
+        rayon::join(|| build(a), || build(b));
+    } else {
+        halves.into_iter().for_each(build);
+    }
 }
 
 /// Reorders `prims` into two non-empty runs and returns where the second starts: the binned

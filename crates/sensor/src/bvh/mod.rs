@@ -17,7 +17,7 @@ use triangle::{Rays4, ShearedRay};
 /// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
 /// x, y, z maxima), and each child's code: an internal node index, [`LEAF`] | triangle slot, or
 /// [`EMPTY`] (whose box is inverted, +∞ to -∞, so that no ray enters it).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 struct Node4 {
     bounds: [Vec4; 6],
@@ -74,7 +74,7 @@ impl Hit {
 }
 
 /// A bounding volume hierarchy over triangles.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Bvh {
     /// The 4-wide nodes, the root first (none for no triangles).
     nodes: Vec<Node4>,
