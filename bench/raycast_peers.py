@@ -6,8 +6,14 @@ tessellated sphere-on-plane scene of about 200k and 2M triangles, returning dist
 and normal, on 2 threads. Rays whose distances differ by more than 1 mm are re-cast in float64
 against every triangle, to say which caster was right.
 
+Embree 3 in C (bench/embree_peer.c, rtcIntersect16 on the same packets of 16 and rtcIntersect1)
+joins them where Debian's libembree-dev is installed: each caster's rate, build and bytes per
+triangle, and its hit/miss agreement with ours.
+
 Usage: python3 bench/raycast_peers.py [--threads 2] [--repeats 5] [--sizes 200000,2000000]
-Needs: pip install numpy open3d (and Debian's libusb-1.0-0); builds the Rust side itself.
+(`--sizes 20000000` for 20M triangles: about 6 GB of memory, mostly the float64 referee's)
+Needs: pip install numpy open3d (and Debian's libusb-1.0-0); builds the Rust side and the Embree
+peer itself.
 """
 import argparse
 import json
@@ -74,6 +80,16 @@ def open3d_rate(vertices, tris, rays, threads, repeats):
     return build, len(rays) / times[0] / 1e6, len(rays) / times[len(times) // 2] / 1e6, t, ids, normals
 
 
+def embree(root):
+    """The Embree peer's binary, compiled from bench/embree_peer.c; None without Embree 3."""
+    if not os.path.exists("/usr/include/embree3/rtcore.h"):
+        return None
+    binary = os.path.join(root, "target", "embree_peer")
+    source = os.path.join(root, "bench", "embree_peer.c")
+    subprocess.run(["cc", "-O3", "-march=native", source, "-lembree3", "-lpthread", "-lm", "-o", binary], check=True)
+    return binary
+
+
 def first_hit_f64(p, e1, e2, ray):
     """The nearest hit distance of one ray on every triangle (corners `p`, edges `e1` and `e2`
     from the first corner, float64), Moller-Trumbore in float64 (inf where it misses): the
@@ -116,6 +132,7 @@ def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "sensor", "--example", "raycast_peer"], cwd=root, check=True)
     binary = os.path.join(root, "target", "release", "examples", "raycast_peer")
+    embree_binary = embree(root)
     rays = camera_rays()
     print(f"{len(rays)} primary rays, {args.threads} threads, best of {args.repeats}")
     with tempfile.TemporaryDirectory() as tmp:
@@ -140,11 +157,21 @@ def main():
             ours, single = runs["packets"], runs["single"]
             print(f"{len(tris) / 1e3:.0f}k triangles: motorfactory packets of 16 {ours['best_mrays']:.2f} Mrays/s (median {ours['median_mrays']:.2f}), "
                   f"single rays {single['best_mrays']:.2f} (median {single['median_mrays']:.2f}), build {ours['build_s']:.3f} s, "
+                  f"tree {ours['bvh_bytes_per_triangle']:.0f} bytes a triangle, "
                   f"packet hits identical to single: {same}; "
                   f"Open3D {best:.2f} Mrays/s (median {median:.2f}, build {build:.3f} s); ratio {ours['best_mrays'] / best:.2f}x; "
                   f"hit/miss agreement {agree:.5f}, max |dt| {t_err:.2e} m, normals agree {n_dot:.4f}; "
                   f"{differ} rays differ by > 1 mm, of {judged} re-cast in float64 {with_us} agree with motorfactory, "
                   f"{with_them} with Open3D")
+            for mode in ["p16", "p1"] if embree_binary else []:
+                out = subprocess.run([embree_binary, f"{tmp}/v.npy", f"{tmp}/t.npy", f"{tmp}/rays.npy", str(args.threads),
+                                      str(args.repeats), f"{tmp}/embree.npy", mode], check=True, capture_output=True, text=True).stdout
+                e = json.loads(out)
+                theirs = np.load(f"{tmp}/embree.npy")
+                agree = np.mean(np.isfinite(theirs[:, 0]) == np.isfinite(hits[:, 0]))
+                print(f"  Embree 3 {mode}: {e['best_mrays']:.2f} Mrays/s (median {e['median_mrays']:.2f}), build {e['build_s']:.3f} s, "
+                      f"{e['bvh_bytes_per_triangle']:.0f} bytes a triangle; motorfactory's packets {ours['best_mrays'] / e['best_mrays']:.2f}x; "
+                      f"hit/miss agreement with motorfactory {agree:.5f}")
 
 
 if __name__ == "__main__":

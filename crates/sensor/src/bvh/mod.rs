@@ -101,6 +101,12 @@ impl Bvh {
         self.stack / 4
     }
 
+    /// The bytes the tree holds: its nodes, its triangles' corners and their input indices.
+    pub fn bytes(&self) -> usize {
+        use std::mem::size_of_val;
+        size_of_val(&self.nodes[..]) + size_of_val(&self.tris[..]) + size_of_val(&self.order[..])
+    }
+
     /// The triangles by slot (leaf order).
     pub(crate) fn slots(&self) -> &[Tri] {
         &self.tris
