@@ -130,8 +130,8 @@ struct Prim {
 }
 
 /// The binary tree over `triangles`, its root at 0 and each node's children side by side, the
-/// nodes in the order of a depth-first build (whatever the threads: a subtree over k triangles
-/// takes the 2k − 2 places after its root's pair).
+/// nodes in the order of a depth-first build whatever the threads (the descendants of a node
+/// over k triangles take the 2k − 2 places from its two children on).
 fn binary_tree(triangles: &[[Vec3; 3]]) -> Vec<Node> {
     let mut prims: Vec<Prim> = triangles
         .par_iter()
