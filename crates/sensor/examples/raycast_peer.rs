@@ -42,7 +42,8 @@ fn main() {
         .map(|c| {
             (
                 Vec3::from_slice(&c[..3]),
-                Vec3::from_slice(&c[3..]).normalize(),
+                // the script's unit directions as they are, the bits every peer casts
+                Vec3::from_slice(&c[3..]),
             )
         })
         .collect();
