@@ -22,6 +22,7 @@ import os
 import subprocess
 import tempfile
 import time
+from fractions import Fraction
 
 import numpy as np
 
@@ -119,8 +120,6 @@ def first_hit(p, e1, e2, ray):
 def exact_hit(corners, ray):
     """Whether `ray` (float32 origin and direction) meets the triangle `corners` at t > 0,
     edges included, in exact rational arithmetic."""
-    from fractions import Fraction
-
     o, d = ([Fraction(float(x)) for x in ray[k:k + 3]] for k in (0, 3))
     a, b, c = ([Fraction(float(x)) for x in corner] for corner in corners)
     sub = lambda x, y: [x[j] - y[j] for j in range(3)]

@@ -83,7 +83,8 @@ impl Station {
             clamping,
         };
         let cell = compose(&motor, &recipe.config.cell, vary, &mut Seed::Cell.rng(seed));
-        // the world is built beside the surface's serial start (its samples and their world)
+        // the cell's world built on the second thread while the first draws the surface's
+        // samples and builds the motor's own world for their exposure test
         let (surface, world) = rayon::join(
             || Surface::sample(&cell.objects, density, Seed::Surface.of(seed)),
             || World::new(&cell.targets(recipe.config.output.scheme)),

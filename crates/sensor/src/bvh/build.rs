@@ -146,7 +146,9 @@ fn binary_tree(triangles: &[[Vec3; 3]]) -> Vec<Node> {
             }
         })
         .collect();
-    let mut nodes = vec![leaf_or_box(&prims); 2 * prims.len() - 1];
+    // the root first; the places after it are each written once by `split`
+    let root = leaf_or_box(&prims);
+    let mut nodes = vec![root; 2 * prims.len() - 1];
     if prims.len() > 1 {
         nodes[0].child = 1;
         split(&mut nodes[1..], 1, &mut prims, 0);
