@@ -1,7 +1,9 @@
 //! Times the ray caster on a mesh and rays stored as .npy (the workload of
 //! `bench/raycast_peers.py`): `raycast_peer VERTICES.npy TRIANGLES.npy RAYS.npy THREADS REPEATS
-//! OUT.npy`. Prints build time, the best and median rates and the tree's bytes per triangle;
-//! writes the hits (t, triangle, normal) of the last run for comparison with the peer.
+//! OUT.npy packets|single`. Prints build time, the best and median rates and the tree's bytes
+//! per triangle; writes the hits (t, triangle, normal) of the last run for comparison with the
+//! peer. Mode `cost` prints instead the nodes visited and triangles tested per ray (every 97th
+//! ray, alone) and the tree's depth.
 
 use std::io::Write;
 
@@ -47,6 +49,22 @@ fn main() {
             )
         })
         .collect();
+    if a.get(7).is_some_and(|m| m == "cost") {
+        let (mut nodes, mut tris) = (0u64, 0u64);
+        for (o, d) in rays.iter().step_by(97) {
+            let (n, t) = world.bvh().cost(*o, *d, f32::INFINITY);
+            nodes += u64::from(n);
+            tris += u64::from(t);
+        }
+        let rays = rays.len().div_ceil(97) as f64;
+        println!(
+            "{{\"nodes_per_ray\": {:.2}, \"triangles_per_ray\": {:.2}, \"depth\": {}}}",
+            nodes as f64 / rays,
+            tris as f64 / rays,
+            world.bvh().depth()
+        );
+        return;
+    }
     let mut out = vec![[f32::INFINITY, -1.0, 0.0, 0.0, 0.0]; rays.len()];
     let mut times = Vec::new();
     for _ in 0..repeats {

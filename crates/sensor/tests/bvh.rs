@@ -277,6 +277,60 @@ fn watertight_through_vertices_and_edges() {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// No ray from inside a closed mesh gets out, with no allowance for rounding: a cube of
+    /// n × n quads a face, bent by a random smooth map (each corner moved as a function of its
+    /// position, so triangles that share an edge still share it to the bit), and rays from
+    /// random points inside at its corners, at the f32-rounded midpoints of its edges (which
+    /// fall either side of the edge) and at random points of its triangles; alone and as
+    /// packets. A ray at a point well inside a triangle meets the mesh no further than there.
+    #[test]
+    fn no_ray_leaves_a_closed_mesh(
+        n in 1usize..10,
+        bend in (0.0f32..0.35, v3(), -3.0f32..3.0),
+        origins in prop::collection::vec(v3(), 3),
+        weights in prop::collection::vec((0.0f32..1.0, 0.0f32..1.0), 16),
+    ) {
+        let (amplitude, wave, phase) = bend;
+        let bent = |v: Vec3| v * (1.0 + amplitude * (4.0 * wave.dot(v) + phase).sin());
+        let tris: Vec<[Vec3; 3]> = grid_cube(n).into_iter().map(|t| t.map(bent)).collect();
+        let bvh = Bvh::build(&tris);
+        // (target, whether it lies well inside a triangle)
+        let mut targets: Vec<(Vec3, bool)> = Vec::new();
+        for (i, t) in tris.iter().enumerate() {
+            let (a, b) = weights[i % weights.len()];
+            let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+            let inside = a > 0.01 && b > 0.01 && a + b < 0.99;
+            targets.extend([t[0], (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5, (t[2] + t[0]) * 0.5].map(|p| (p, false)));
+            targets.push((t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]), inside));
+        }
+        targets.truncate(targets.len() / 16 * 16);
+        // the bent cube keeps the ball of radius 0.65 about its centre inside
+        for origin in origins.iter().map(|o| *o * 0.35) {
+            let dir = |(t, _): &(Vec3, bool)| (*t - origin).normalize();
+            for target in &targets {
+                let d = dir(target);
+                let h = bvh.cast(origin, d, 10.0);
+                prop_assert!(h.is_some(), "a ray from {} towards {:?} got out", origin, target);
+                if target.1 {
+                    prop_assert!(h.unwrap().t <= (target.0 - origin).length() * (1.0 + 1e-5));
+                }
+                prop_assert!(bvh.occluded(origin, d, 10.0));
+            }
+            for sixteen in targets.chunks_exact(16) {
+                let dirs: [[Vec3; 4]; 4] =
+                    std::array::from_fn(|g| std::array::from_fn(|k| dir(&sixteen[4 * g + k])));
+                let hits = bvh.cast_packet(&[[origin; 4]; 4], &dirs, &[[10.0; 4]; 4]);
+                prop_assert!(hits.iter().flatten().all(Option::is_some));
+                let blocked = bvh.occluded_packet(&[[origin; 4]; 4], &dirs, &[[10.0; 4]; 4]);
+                prop_assert!(blocked.iter().flatten().all(|&b| b));
+            }
+        }
+    }
+}
+
 /// Rays with exactly zero direction components (an image's centre row and column) meet boxes
 /// that are flat or touch the ray's coordinate exactly: 0·∞ in a slab test must not lose hits.
 #[test]

@@ -1,23 +1,25 @@
 //! Building the 4-wide tree: a binary tree by binned surface-area heuristic (SAH) splits of
-//! the triangles' centroids, falling back to median splits where SAH cannot split or the tree
-//! grows deep (equal centroids, coincident or degenerate triangles), so that any input builds in
-//! O(n log n), the two halves of a large range on two threads; then collapsed four children to
-//! a node with the leaves in traversal order.
+//! the triangles' centroids down to leaves of at most [`LEAF_SIZE`] triangles, falling back to
+//! median splits where SAH cannot split or the tree grows deep (equal centroids, coincident or
+//! degenerate triangles), so that any input builds in O(n log n), the two halves of a large
+//! range on two threads; then collapsed four children to a node with the leaves' triangles in
+//! traversal order.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{Bvh, LEAF, Node4};
+use super::{Bvh, COUNT_SHIFT, LEAF, LEAF_SIZE, Node4, SLOT};
 
 /// A node of the binary tree: an internal node's children are at `child` and `child + 1`; a
-/// leaf holds one triangle, `prim` (an input triangle index).
+/// leaf holds `count` triangles, the build order's from `child` on.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(32))]
 struct Node {
     min: Vec3,
     child: u32,
     max: Vec3,
-    prim: u32,
+    /// Triangles of a leaf; [`INTERNAL`] for an internal node.
+    count: u32,
 }
 
 const INTERNAL: u32 = u32::MAX;
@@ -44,17 +46,21 @@ impl Bvh {
         if triangles.is_empty() {
             return bvh;
         }
-        let binary = binary_tree(triangles);
-        bvh.nodes.reserve(triangles.len() / 2);
+        assert!(
+            triangles.len() <= SLOT as usize,
+            "a tree holds at most {SLOT} triangles"
+        );
+        let (binary, built) = binary_tree(triangles);
+        bvh.nodes.reserve(triangles.len() / 8);
         bvh.order.reserve(triangles.len());
-        let root = bvh.collapse(&binary, 0);
+        let root = bvh.collapse(&binary, &built, 0);
         bvh.tris = bvh
             .order
             .par_iter()
             .map(|&i| triangles[i as usize])
             .collect();
         if root & LEAF != 0 {
-            // a lone triangle: give it a node, so that every walk starts at node 0
+            // a lone leaf: give it a node, so that every walk starts at node 0
             let mut node = Node4::VACANT;
             for axis in 0..3 {
                 node.bounds[axis].x = binary[0].min[axis];
@@ -67,13 +73,17 @@ impl Bvh {
         bvh
     }
 
-    /// The child code of binary node `i`, building 4-wide nodes below it. Leaves take the next
-    /// triangle slots, so triangles end up in traversal order.
-    fn collapse(&mut self, binary: &[Node], i: usize) -> u32 {
+    /// The child code of binary node `i`, building 4-wide nodes below it; `built` holds the
+    /// binary leaves' triangles (input indices). Leaves take the next triangle slots, so
+    /// triangles end up in traversal order.
+    fn collapse(&mut self, binary: &[Node], built: &[u32], i: usize) -> u32 {
         let n = &binary[i];
-        if n.prim != INTERNAL {
-            self.order.push(n.prim);
-            return LEAF | (self.order.len() as u32 - 1);
+        if n.count != INTERNAL {
+            let slot = self.order.len() as u32;
+            let first = n.child as usize;
+            self.order
+                .extend_from_slice(&built[first..first + n.count as usize]);
+            return LEAF | (n.count - 1) << COUNT_SHIFT | slot;
         }
         // open the largest internal child (of equals, the first made) until there are four
         let mut lanes = [n.child as usize, n.child as usize + 1, 0, 0];
@@ -85,7 +95,7 @@ impl Bvh {
                 e.x * e.y + e.y * e.z + e.z * e.x
             };
             let Some(open) = (0..kids.len())
-                .filter(|&j| binary[kids[j]].prim == INTERNAL)
+                .filter(|&j| binary[kids[j]].count == INTERNAL)
                 .max_by(|&a, &b| {
                     area(kids[a])
                         .total_cmp(&area(kids[b]))
@@ -107,7 +117,7 @@ impl Bvh {
                 node.bounds[axis][lane] = binary[k].min[axis];
                 node.bounds[axis + 3][lane] = binary[k].max[axis];
             }
-            node.child[lane] = self.collapse(binary, k);
+            node.child[lane] = self.collapse(binary, built, k);
         }
         self.nodes[index] = node;
         index as u32
@@ -131,8 +141,9 @@ struct Prim {
 
 /// The binary tree over `triangles`, its root at 0 and each node's children side by side, the
 /// nodes in the order of a depth-first build whatever the threads (the descendants of a node
-/// over k triangles take the 2k − 2 places from its two children on).
-fn binary_tree(triangles: &[[Vec3; 3]]) -> Vec<Node> {
+/// over k triangles take at most the 2k − 2 places from its two children on); and the input
+/// indices of the triangles in the order the leaves hold them.
+fn binary_tree(triangles: &[[Vec3; 3]]) -> (Vec<Node>, Vec<u32>) {
     let mut prims: Vec<Prim> = triangles
         .par_iter()
         .enumerate()
@@ -146,55 +157,57 @@ fn binary_tree(triangles: &[[Vec3; 3]]) -> Vec<Node> {
             }
         })
         .collect();
-    // the root first; the places after it are each written once by `split`
-    let root = leaf_or_box(&prims);
+    // the root first; the places after it that nodes take are each written once by `split`
+    let root = leaf_or_box(&prims, 0);
     let mut nodes = vec![root; 2 * prims.len() - 1];
-    if prims.len() > 1 {
+    if root.count == INTERNAL {
         nodes[0].child = 1;
-        split(&mut nodes[1..], 1, &mut prims, 0);
+        split(&mut nodes[1..], 1, &mut prims, 0, 0);
     }
-    nodes
+    (nodes, prims.iter().map(|p| p.index).collect())
 }
 
-/// A leaf for a lone triangle, else an internal node with the box of `prims`.
-fn leaf_or_box(prims: &[Prim]) -> Node {
+/// A leaf for at most [`LEAF_SIZE`] triangles, the build order's from `first` on, else an
+/// internal node; either with the box of `prims`.
+fn leaf_or_box(prims: &[Prim], first: u32) -> Node {
     let (min, max) = prims
         .iter()
         .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.min), hi.max(p.max))
         });
+    let leaf = prims.len() <= LEAF_SIZE;
     Node {
         min,
-        child: 0,
+        child: if leaf { first } else { 0 },
         max,
-        prim: if prims.len() == 1 {
-            prims[0].index
-        } else {
-            INTERNAL
-        },
+        count: if leaf { prims.len() as u32 } else { INTERNAL },
     }
 }
 
-/// Builds the descendants of a node holding `prims` (two or more) at `depth` into `below`
-/// (2·len − 2 places, the first at index `base`): its two children, then the left child's
-/// descendants, then the right's.
-fn split(below: &mut [Node], base: u32, prims: &mut [Prim], depth: u32) {
+/// Builds the descendants of a node holding `prims` (more than a leaf's), the build order's
+/// from `first` on, at `depth` into `below` (2·len − 2 places, the first at index `base`): its
+/// two children, then the left child's descendants, then the right's.
+fn split(below: &mut [Node], base: u32, prims: &mut [Prim], first: u32, depth: u32) {
     let parallel = prims.len() >= PARALLEL;
     let mid = partition(prims, depth);
     let (left, right) = prims.split_at_mut(mid);
     let (pair, rest) = below.split_at_mut(2);
     let (left_below, right_below) = rest.split_at_mut(2 * left.len() - 2);
     let bases = [base + 2, base + 2 + left_below.len() as u32];
-    let halves = [(left_below, bases[0], left), (right_below, bases[1], right)];
-    for (node, (_, base, prims)) in pair.iter_mut().zip(&halves) {
-        *node = leaf_or_box(prims);
-        if prims.len() > 1 {
+    let firsts = [first, first + mid as u32];
+    let halves = [
+        (left_below, bases[0], left, firsts[0]),
+        (right_below, bases[1], right, firsts[1]),
+    ];
+    for (node, (_, base, prims, first)) in pair.iter_mut().zip(&halves) {
+        *node = leaf_or_box(prims, *first);
+        if node.count == INTERNAL {
             node.child = *base;
         }
     }
-    let build = |(below, base, prims): (&mut [Node], u32, &mut [Prim])| {
-        if prims.len() > 1 {
-            split(below, base, prims, depth + 1);
+    let build = |(below, base, prims, first): (&mut [Node], u32, &mut [Prim], u32)| {
+        if prims.len() > LEAF_SIZE {
+            split(below, base, prims, first, depth + 1);
         }
     };
     if parallel {

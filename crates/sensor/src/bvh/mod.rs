@@ -15,8 +15,9 @@ pub(crate) use traverse::lanes;
 use triangle::{Rays4, ShearedRay};
 
 /// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
-/// x, y, z maxima), and each child's code: an internal node index, [`LEAF`] | triangle slot, or
-/// [`EMPTY`] (whose box is inverted, +∞ to -∞, so that no ray enters it).
+/// x, y, z maxima), and each child's code: an internal node index, a leaf ([`LEAF`] | (triangles
+/// − 1) << [`COUNT_SHIFT`] | first triangle slot: a run of one to [`LEAF_SIZE`] consecutive
+/// slots), or [`EMPTY`] (whose box is inverted, +∞ to -∞, so that no ray enters it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 struct Node4 {
@@ -26,8 +27,21 @@ struct Node4 {
 
 /// Child code bit of a leaf.
 const LEAF: u32 = 1 << 31;
+/// Most triangles in a leaf.
+const LEAF_SIZE: usize = 4;
+/// Where a leaf's code keeps its number of triangles less one (two bits); the slot is below.
+const COUNT_SHIFT: u32 = 29;
+/// The bits of a leaf's code that hold its first slot.
+const SLOT: u32 = (1 << COUNT_SHIFT) - 1;
 /// Child code of an unused lane.
 const EMPTY: u32 = u32::MAX;
+
+/// The triangle slots of a leaf's code.
+#[inline(always)]
+fn leaf_slots(code: u32) -> std::ops::Range<u32> {
+    let first = code & SLOT;
+    first..first + ((code & !LEAF) >> COUNT_SHIFT) + 1
+}
 
 impl Node4 {
     const VACANT: Node4 = Node4 {
@@ -60,12 +74,15 @@ pub struct Hit {
 }
 
 impl Hit {
-    /// Takes `other` if it is nearer, or as near with a lower triangle slot (so that ties at
-    /// shared edges resolve the same way in any traversal order); returns its distance if so.
+    /// Takes `other` if it is nearer, or as near with a lower input index (`order` maps the
+    /// slots both hold to input indices: so that ties at shared edges resolve the same way in
+    /// any traversal order and whatever the tree); returns its distance if so.
     #[inline(always)]
-    fn closer(&mut self, other: Hit) -> Option<f32> {
+    fn closer(&mut self, other: Hit, order: &[u32]) -> Option<f32> {
         let take = other.t < self.t
-            || (other.t == self.t && self.triangle != u32::MAX && other.triangle < self.triangle);
+            || (other.t == self.t
+                && self.triangle != u32::MAX
+                && order[other.triangle as usize] < order[self.triangle as usize]);
         take.then(|| {
             *self = other;
             other.t
@@ -137,7 +154,7 @@ impl Bvh {
                     u,
                     v,
                 };
-                if let Some(t) = best.closer(hit) {
+                if let Some(t) = best.closer(hit, &self.order) {
                     *reach = t;
                     limit = t.next_up();
                 }
@@ -190,7 +207,7 @@ impl Bvh {
                         u,
                         v,
                     };
-                    if let Some(t) = best[lane].closer(hit) {
+                    if let Some(t) = best[lane].closer(hit, &self.order) {
                         reach[lane] = t;
                         limit[lane] = t.next_up();
                     }

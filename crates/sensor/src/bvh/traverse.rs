@@ -5,7 +5,7 @@
 use glam::{BVec4A, Vec3, Vec4};
 
 use super::triangle::{Rays4, WIDEN};
-use super::{Bvh, EMPTY, LEAF, Node4};
+use super::{Bvh, EMPTY, LEAF, Node4, leaf_slots};
 
 /// Traversal stack entries kept on the call stack: trees of a few million triangles are
 /// well under 20 four-wide levels deep, and a walk holds at most four entries per level.
@@ -15,7 +15,7 @@ impl Bvh {
     /// The walk of a packet: visits each node once for the whole packet, testing its four boxes
     /// at once against the cone the rays span (interval arithmetic over their origins and
     /// inverse directions, a superset of what each ray enters); `leaf(group, lanes, slot, reach)` tests
-    /// a leaf's triangle for the lanes (bit mask) of a group still searching and lowers their
+    /// a leaf's triangle (each in turn) for the lanes (bit mask) of a group still searching and lowers their
     /// `reach` on hits (a `reach` of 0 or less ends a lane). Returns the number of nodes visited.
     #[inline(always)]
     pub(super) fn walk<const G: usize>(
@@ -54,6 +54,7 @@ impl Bvh {
                     mask &= mask - 1;
                     let code = n.child[c];
                     if code & LEAF == 0 {
+                        self.prefetch(code);
                         stack.push_sorted(base, code, near[c]);
                     } else if code != EMPTY {
                         leaves |= 1 << c;
@@ -70,11 +71,16 @@ impl Bvh {
                             let reach = Vec4::from(reach[g]).max_element();
                             groups[g].enters(n, reach).0 & leaves
                         };
-                        while tested != 0 && lanes[g] != 0 {
+                        'leaves: while tested != 0 {
                             let c = tested.trailing_zeros() as usize;
                             tested &= tested - 1;
-                            leaf(g, lanes[g], n.child[c] & !LEAF, &mut reach[g]);
-                            lanes[g] = live_lanes(reach[g]);
+                            for slot in leaf_slots(n.child[c]) {
+                                leaf(g, lanes[g], slot, &mut reach[g]);
+                                lanes[g] = live_lanes(reach[g]);
+                                if lanes[g] == 0 {
+                                    break 'leaves;
+                                }
+                            }
                         }
                     }
                     if lanes.iter().all(|&l| l == 0) {
@@ -92,6 +98,22 @@ impl Bvh {
 }
 
 impl Bvh {
+    /// Asks for node `i` to be brought into the cache while the walk goes on: most children a
+    /// walk enters it visits later, from the stack.
+    #[inline(always)]
+    fn prefetch(&self, i: u32) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            let p = self.nodes.as_ptr().wrapping_add(i as usize).cast::<i8>();
+            // SAFETY: prefetching has no effect on memory, whatever the address
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(p);
+                _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64));
+            }
+        }
+    }
+
     /// Runs `walk` with a traversal stack of the size the tree needs: on the call stack for any
     /// tree a real mesh gives, on the heap beyond.
     #[inline(always)]
@@ -136,11 +158,14 @@ impl Bvh {
                     mask &= mask - 1;
                     let code = n.child[c];
                     if code & LEAF == 0 {
+                        self.prefetch(code);
                         stack.push_sorted(base, code, near[c]);
                     } else if code != EMPTY {
-                        leaf(code & !LEAF, &mut reach);
-                        if reach <= 0.0 {
-                            return visited;
+                        for slot in leaf_slots(code) {
+                            leaf(slot, &mut reach);
+                            if reach <= 0.0 {
+                                return visited;
+                            }
                         }
                     }
                 }

@@ -13,7 +13,7 @@ const GAMMA3: f32 = 3.0 * f32::EPSILON / (1.0 - 3.0 * f32::EPSILON);
 /// The factor that makes a box test's far distance (and the current closest hit it is compared
 /// with) conservative: 1 + 2γ(3) (Ize, "Robust BVH ray traversal", 2013). Scaling the closest
 /// hit too means every box holding a triangle hit at exactly that distance is entered, so ties
-/// resolve the same way (lowest slot) in any traversal order.
+/// resolve the same way (lowest input index) in any traversal order.
 pub(super) const WIDEN: Vec4 = Vec4::splat(1.0 + 2.0 * GAMMA3);
 
 /// A ray prepared for the watertight test: its dominant axis becomes z, and a shear maps the
