@@ -12,6 +12,8 @@ joins them where Debian's libembree-dev is installed: each caster's rate, build 
 triangle, and its hit/miss agreement with ours.
 
 Usage: python3 bench/raycast_peers.py [--threads 2] [--repeats 5] [--sizes 200000,2000000]
+[--referee 20] (`--referee 0` re-casts every ray where the casters differ, and gives each
+caster's agreement with the referee over all rays: rays where they agree count as right)
 (`--sizes 20000000` for 20M triangles: about 6 GB of memory, mostly the float64 referee's)
 Needs: pip install numpy open3d (and Debian's libusb-1.0-0); builds the Rust side and the Embree
 peer itself.
@@ -102,16 +104,16 @@ def first_hit(p, e1, e2, ray):
     o, d = ray[:3].astype(np.float64), ray[3:].astype(np.float64)
     pv = np.cross(d, e2)
     det = np.einsum("ij,ij->i", e1, pv)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    band = 1e-9
+    with np.errstate(divide="ignore", invalid="ignore"):  # degenerate triangles: det = 0
         tv = o - p[:, 0]
         u = np.einsum("ij,ij->i", tv, pv) / det
         q = np.cross(tv, e1)
         v = (q @ d) / det
         t = np.einsum("ij,ij->i", e2, q) / det
-    band = 1e-9
-    hit = (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
-    near = (u >= -band) & (v >= -band) & (u + v <= 1 + band) & (t > 0) & (
-        (np.abs(u) < band) | (np.abs(v) < band) | (np.abs(1 - u - v) < band))
+        hit = (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        near = (u >= -band) & (v >= -band) & (u + v <= 1 + band) & (t > 0) & (
+            (np.abs(u) < band) | (np.abs(v) < band) | (np.abs(1 - u - v) < band))
     for k in np.where(near)[0]:
         hit[k] = exact_hit(p[k], ray)
     return t[hit].min() if hit.any() else np.inf
@@ -136,20 +138,21 @@ def exact_hit(corners, ray):
     return u >= 0 and v >= 0 and u + v <= 1 and t > 0
 
 
-def referee(vertices, tris, rays, ours, theirs, limit=20):
+def referee(vertices, tris, rays, ours, theirs, limit):
     """Rays whose hit distances differ by more than 1 mm (or where only one caster hits),
-    re-cast by `first_hit`: (how many differ, how many of the first `limit` the re-cast agrees
-    with us on, and with Open3D on)."""
+    re-cast by `first_hit`: (how many differ, how many of the first `limit` (0: all) were
+    re-cast, how many of those the re-cast agrees with us on, and with Open3D on)."""
     a, b = (np.where(np.isnan(x), np.inf, x) for x in (ours, theirs))  # a miss is infinitely far
     differ = np.where(~np.isclose(a, b, rtol=0, atol=1e-3) & (np.isfinite(a) | np.isfinite(b)))[0]
     with_us = with_them = 0
     p = vertices[tris].astype(np.float64)
     e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
-    for i in differ[:limit]:
+    judged = differ[:limit] if limit else differ
+    for i in judged:
         t = first_hit(p, e1, e2, rays[i])
         with_us += bool(np.isclose(t, a[i], rtol=0, atol=1e-4))  # two misses are close too
         with_them += bool(np.isclose(t, b[i], rtol=0, atol=1e-4))
-    return len(differ), min(len(differ), limit), with_us, with_them
+    return len(differ), len(judged), with_us, with_them
 
 
 def main():
@@ -157,6 +160,8 @@ def main():
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--sizes", default="200000,2000000")
+    p.add_argument("--referee", type=int, default=20,
+                   help="rays where the casters differ to re-cast exactly, per size (0: every one)")
     args = p.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "sensor", "--example", "raycast_peer"], cwd=root, check=True)
@@ -182,7 +187,7 @@ def main():
             agree = np.mean(np.isfinite(t) == np.isfinite(hits[:, 0]))
             t_err = np.max(np.abs(t[both] - hits[both, 0])) if both.any() else 0.0
             n_dot = np.mean(np.abs(np.sum(normals[both] * hits[both, 2:5], 1)) > 0.999)
-            differ, judged, with_us, with_them = referee(vertices, tris, rays, hits[:, 0], t)
+            differ, judged, with_us, with_them = referee(vertices, tris, rays, hits[:, 0], t, args.referee)
             ours, single = runs["packets"], runs["single"]
             print(f"{len(tris) / 1e3:.0f}k triangles: motorfactory packets of 16 {ours['best_mrays']:.2f} Mrays/s (median {ours['median_mrays']:.2f}), "
                   f"single rays {single['best_mrays']:.2f} (median {single['median_mrays']:.2f}), build {ours['build_s']:.3f} s, "
@@ -191,7 +196,9 @@ def main():
                   f"Open3D {best:.2f} Mrays/s (median {median:.2f}, build {build:.3f} s); ratio {ours['best_mrays'] / best:.2f}x; "
                   f"hit/miss agreement {agree:.5f}, max |dt| {t_err:.2e} m, normals agree {n_dot:.4f}; "
                   f"{differ} rays differ by > 1 mm, of {judged} re-cast (float64, exact at edges) {with_us} agree with motorfactory, "
-                  f"{with_them} with Open3D")
+                  f"{with_them} with Open3D" + (
+                      f"; agreement with the referee on every ray: motorfactory {1 - (differ - with_us) / len(rays):.6f}, "
+                      f"Open3D {1 - (differ - with_them) / len(rays):.6f}" if judged == differ else ""))
             for mode in ["p16", "p1"] if embree_binary else []:
                 out = subprocess.run([embree_binary, f"{tmp}/v.npy", f"{tmp}/t.npy", f"{tmp}/rays.npy", str(args.threads),
                                       str(args.repeats), f"{tmp}/embree.npy", mode], check=True, capture_output=True, text=True).stdout

@@ -285,7 +285,8 @@ proptest! {
     /// position, so triangles that share an edge still share it to the bit), and rays from
     /// random points inside at its corners, at the f32-rounded midpoints of its edges (which
     /// fall either side of the edge) and at random points of its triangles; alone and as
-    /// packets. A ray at a point well inside a triangle meets the mesh no further than there.
+    /// packets. A ray at a point well inside a triangle, and not grazing it, meets the mesh no
+    /// further than there.
     #[test]
     fn no_ray_leaves_a_closed_mesh(
         n in 1usize..10,
@@ -297,24 +298,26 @@ proptest! {
         let bent = |v: Vec3| v * (1.0 + amplitude * (4.0 * wave.dot(v) + phase).sin());
         let tris: Vec<[Vec3; 3]> = grid_cube(n).into_iter().map(|t| t.map(bent)).collect();
         let bvh = Bvh::build(&tris);
-        // (target, whether it lies well inside a triangle)
-        let mut targets: Vec<(Vec3, bool)> = Vec::new();
+        // (target, the normal of the triangle it lies well inside, if it does)
+        let mut targets: Vec<(Vec3, Option<Vec3>)> = Vec::new();
         for (i, t) in tris.iter().enumerate() {
             let (a, b) = weights[i % weights.len()];
             let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
             let inside = a > 0.01 && b > 0.01 && a + b < 0.99;
-            targets.extend([t[0], (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5, (t[2] + t[0]) * 0.5].map(|p| (p, false)));
-            targets.push((t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]), inside));
+            let normal = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+            targets.extend([t[0], (t[0] + t[1]) * 0.5, (t[1] + t[2]) * 0.5, (t[2] + t[0]) * 0.5].map(|p| (p, None)));
+            targets.push((t[0] + a * (t[1] - t[0]) + b * (t[2] - t[0]), inside.then_some(normal)));
         }
         targets.truncate(targets.len() / 16 * 16);
         // the bent cube keeps the ball of radius 0.65 about its centre inside
         for origin in origins.iter().map(|o| *o * 0.35) {
-            let dir = |(t, _): &(Vec3, bool)| (*t - origin).normalize();
+            let dir = |(t, _): &(Vec3, Option<Vec3>)| (*t - origin).normalize();
             for target in &targets {
                 let d = dir(target);
                 let h = bvh.cast(origin, d, 10.0);
                 prop_assert!(h.is_some(), "a ray from {} towards {:?} got out", origin, target);
-                if target.1 {
+                // (a grazing ray meets the plane far from the target rounded off it)
+                if target.1.is_some_and(|normal| normal.dot(d).abs() > 0.05) {
                     prop_assert!(h.unwrap().t <= (target.0 - origin).length() * (1.0 + 1e-5));
                 }
                 prop_assert!(bvh.occluded(origin, d, 10.0));

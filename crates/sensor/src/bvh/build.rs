@@ -2,8 +2,8 @@
 //! the triangles' centroids down to leaves of at most [`LEAF_SIZE`] triangles, falling back to
 //! median splits where SAH cannot split or the tree grows deep (equal centroids, coincident or
 //! degenerate triangles), so that any input builds in O(n log n), the two halves of a large
-//! range on two threads; then collapsed four children to a node with the leaves' triangles in
-//! traversal order.
+//! range on two threads; then collapsed four children to a node (the largest opened first)
+//! with the leaves' triangles in traversal order, a node's side by side.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -117,7 +117,14 @@ impl Bvh {
                 node.bounds[axis][lane] = binary[k].min[axis];
                 node.bounds[axis + 3][lane] = binary[k].max[axis];
             }
-            node.child[lane] = self.collapse(binary, built, k);
+        }
+        // the leaves first, so that a node's triangles lie side by side
+        for leaves in [true, false] {
+            for (lane, &k) in lanes[..count].iter().enumerate() {
+                if (binary[k].count != INTERNAL) == leaves {
+                    node.child[lane] = self.collapse(binary, built, k);
+                }
+            }
         }
         self.nodes[index] = node;
         index as u32
