@@ -123,11 +123,32 @@ impl Bvh {
             for (lane, &k) in lanes[..count].iter().enumerate() {
                 if (binary[k].count != INTERNAL) == leaves {
                     node.child[lane] = self.collapse(binary, built, k);
+                    if !leaves {
+                        node.leaves[lane] = self.leaf_lines(node.child[lane]);
+                    }
                 }
             }
         }
         self.nodes[index] = node;
         index as u32
+    }
+
+    /// Where the triangles of node `i`'s leaves start and the cache lines they span, packed as
+    /// [`Node4::leaves`] keeps them (none: 0).
+    fn leaf_lines(&self, i: u32) -> u32 {
+        let (mut first, mut end) = (u32::MAX, 0);
+        for &code in &self.nodes[i as usize].child {
+            if code & LEAF != 0 && code != super::EMPTY {
+                let slots = super::leaf_slots(code);
+                (first, end) = (first.min(slots.start), end.max(slots.end));
+            }
+        }
+        if end == 0 {
+            return 0;
+        }
+        let size = size_of::<super::Tri>();
+        let lines = ((first as usize * size) % 64 + (end - first) as usize * size).div_ceil(64);
+        first | (lines.min(7) as u32) << 29
     }
 
     /// Levels of the tree below and including node `i`.

@@ -23,6 +23,9 @@ use triangle::{Rays4, ShearedRay};
 struct Node4 {
     bounds: [Vec4; 6],
     child: [u32; 4],
+    /// For each internal child, where the triangles of its own leaves start (a slot) and, in
+    /// the top three bits, how many cache lines they span (for prefetching them with it).
+    leaves: [u32; 4],
 }
 
 /// Child code bit of a leaf.
@@ -54,6 +57,7 @@ impl Node4 {
             Vec4::NEG_INFINITY,
         ],
         child: [EMPTY; 4],
+        leaves: [0; 4],
     };
 }
 

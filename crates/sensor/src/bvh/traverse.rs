@@ -5,7 +5,7 @@
 use glam::{BVec4A, Vec3, Vec4};
 
 use super::triangle::{Rays4, WIDEN};
-use super::{Bvh, EMPTY, LEAF, Node4, leaf_slots};
+use super::{Bvh, EMPTY, LEAF, Node4, SLOT, leaf_slots};
 
 /// Traversal stack entries kept on the call stack: trees of a few million triangles are
 /// well under 20 four-wide levels deep, and a walk holds at most four entries per level.
@@ -46,7 +46,6 @@ impl Bvh {
             loop {
                 visited += 1;
                 let n = &self.nodes[cur as usize];
-                self.prefetch_leaves(n);
                 let (mut mask, near) = cone.enters(n, reach_all);
                 let base = stack.len;
                 let mut leaves = 0;
@@ -56,6 +55,7 @@ impl Bvh {
                     let code = n.child[c];
                     if code & LEAF == 0 {
                         self.prefetch(code);
+                        self.prefetch_leaves(n.leaves[c]);
                         stack.push_sorted(base, code, near[c]);
                     } else if code != EMPTY {
                         leaves |= 1 << c;
@@ -115,25 +115,19 @@ impl Bvh {
         }
     }
 
-    /// Asks for the triangles of the leaves of node `n` (side by side) to be brought into the
-    /// cache while a packet tests its boxes (a single ray's box test is too short to gain).
+    /// Asks for the triangles of a node's leaves (`lines`: as [`Node4::leaves`] keeps them) to
+    /// be brought into the cache with the node (a single ray's walk gains nothing from it).
     #[inline(always)]
-    fn prefetch_leaves(&self, n: &Node4) {
+    fn prefetch_leaves(&self, lines: u32) {
         #[cfg(target_arch = "x86_64")]
         {
             use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            let (mut first, mut end) = (u32::MAX, 0);
-            for code in n.child {
-                if code & LEAF != 0 && code != EMPTY {
-                    let slots = leaf_slots(code);
-                    (first, end) = (first.min(slots.start), end.max(slots.end));
-                }
-            }
-            let from = self.tris.as_ptr().wrapping_add(first as usize).cast::<i8>();
-            let bytes = (end.saturating_sub(first) as usize) * size_of::<super::Tri>();
-            // every cache line the range touches
-            let lines = (from as usize % 64 + bytes).div_ceil(64);
-            for line in 0..lines {
+            let from = self
+                .tris
+                .as_ptr()
+                .wrapping_add((lines & SLOT) as usize)
+                .cast::<i8>();
+            for line in 0..(lines >> 29) as usize {
                 // SAFETY: prefetching has no effect on memory, whatever the address
                 unsafe { _mm_prefetch::<_MM_HINT_T0>(from.wrapping_add(64 * line)) };
             }
