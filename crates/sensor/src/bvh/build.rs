@@ -8,7 +8,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{Bvh, COUNT_SHIFT, LEAF, LEAF_SIZE, Node4, SLOT};
+use super::{Bvh, COUNT_SHIFT, EMPTY, LEAF, LEAF_SIZE, Node4, SLOT, Tri, leaf_slots};
 
 /// A node of the binary tree: an internal node's children are at `child` and `child + 1`; a
 /// leaf holds `count` triangles, the build order's from `child` on.
@@ -138,17 +138,17 @@ impl Bvh {
     fn leaf_lines(&self, i: u32) -> u32 {
         let (mut first, mut end) = (u32::MAX, 0);
         for &code in &self.nodes[i as usize].child {
-            if code & LEAF != 0 && code != super::EMPTY {
-                let slots = super::leaf_slots(code);
+            if code & LEAF != 0 && code != EMPTY {
+                let slots = leaf_slots(code);
                 (first, end) = (first.min(slots.start), end.max(slots.end));
             }
         }
         if end == 0 {
             return 0;
         }
-        let size = size_of::<super::Tri>();
+        let size = size_of::<Tri>();
         let lines = ((first as usize * size) % 64 + (end - first) as usize * size).div_ceil(64);
-        first | (lines.min(7) as u32) << 29
+        first | (lines.min(7) as u32) << COUNT_SHIFT
     }
 
     /// Levels of the tree below and including node `i`.

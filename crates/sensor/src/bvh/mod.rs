@@ -23,8 +23,9 @@ use triangle::{Rays4, ShearedRay};
 struct Node4 {
     bounds: [Vec4; 6],
     child: [u32; 4],
-    /// For each internal child, where the triangles of its own leaves start (a slot) and, in
-    /// the top three bits, how many cache lines they span (for prefetching them with it).
+    /// For each internal child, where the triangles of its own leaves start (a slot, below
+    /// [`COUNT_SHIFT`]) and, in the three bits above, how many cache lines they span (at most
+    /// seven; for prefetching them with it).
     leaves: [u32; 4],
 }
 

@@ -5,7 +5,7 @@
 use glam::{BVec4A, Vec3, Vec4};
 
 use super::triangle::{Rays4, WIDEN};
-use super::{Bvh, EMPTY, LEAF, Node4, SLOT, leaf_slots};
+use super::{Bvh, COUNT_SHIFT, EMPTY, LEAF, Node4, SLOT, leaf_slots};
 
 /// Traversal stack entries kept on the call stack: trees of a few million triangles are
 /// well under 20 four-wide levels deep, and a walk holds at most four entries per level.
@@ -14,9 +14,10 @@ const STACK: usize = 128;
 impl Bvh {
     /// The walk of a packet: visits each node once for the whole packet, testing its four boxes
     /// at once against the cone the rays span (interval arithmetic over their origins and
-    /// inverse directions, a superset of what each ray enters); `leaf(group, lanes, slot, reach)` tests
-    /// a leaf's triangle (each in turn) for the lanes (bit mask) of a group still searching and lowers their
-    /// `reach` on hits (a `reach` of 0 or less ends a lane). Returns the number of nodes visited.
+    /// inverse directions, a superset of what each ray enters); `leaf(group, lanes, slot,
+    /// reach)` tests a leaf's triangle (each in turn) for the lanes (bit mask) of a group still
+    /// searching and lowers their `reach` on hits (a `reach` of 0 or less ends a lane). Returns
+    /// the number of nodes visited.
     #[inline(always)]
     pub(super) fn walk<const G: usize>(
         &self,
@@ -102,6 +103,7 @@ impl Bvh {
     /// Asks for node `i` to be brought into the cache while the walk goes on: most children a
     /// walk enters it visits later, from the stack.
     #[inline(always)]
+    #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
     fn prefetch(&self, i: u32) {
         #[cfg(target_arch = "x86_64")]
         {
@@ -118,6 +120,7 @@ impl Bvh {
     /// Asks for the triangles of a node's leaves (`lines`: as [`Node4::leaves`] keeps them) to
     /// be brought into the cache with the node (a single ray's walk gains nothing from it).
     #[inline(always)]
+    #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
     fn prefetch_leaves(&self, lines: u32) {
         #[cfg(target_arch = "x86_64")]
         {
@@ -127,7 +130,7 @@ impl Bvh {
                 .as_ptr()
                 .wrapping_add((lines & SLOT) as usize)
                 .cast::<i8>();
-            for line in 0..(lines >> 29) as usize {
+            for line in 0..(lines >> COUNT_SHIFT) as usize {
                 // SAFETY: prefetching has no effect on memory, whatever the address
                 unsafe { _mm_prefetch::<_MM_HINT_T0>(from.wrapping_add(64 * line)) };
             }
