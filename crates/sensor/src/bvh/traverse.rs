@@ -103,38 +103,17 @@ impl Bvh {
     /// Asks for node `i` to be brought into the cache while the walk goes on: most children a
     /// walk enters it visits later, from the stack.
     #[inline(always)]
-    #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
     fn prefetch(&self, i: u32) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            let p = self.nodes.as_ptr().wrapping_add(i as usize).cast::<i8>();
-            // SAFETY: prefetching has no effect on memory, whatever the address
-            unsafe {
-                _mm_prefetch::<_MM_HINT_T0>(p);
-                _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64));
-            }
-        }
+        let lines = size_of::<Node4>() / 64;
+        prefetch_lines(self.nodes.as_ptr().wrapping_add(i as usize), lines);
     }
 
     /// Asks for the triangles of a node's leaves (`lines`: as [`Node4::leaves`] keeps them) to
     /// be brought into the cache with the node (a single ray's walk gains nothing from it).
     #[inline(always)]
-    #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
     fn prefetch_leaves(&self, lines: u32) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            let from = self
-                .tris
-                .as_ptr()
-                .wrapping_add((lines & SLOT) as usize)
-                .cast::<i8>();
-            for line in 0..(lines >> COUNT_SHIFT) as usize {
-                // SAFETY: prefetching has no effect on memory, whatever the address
-                unsafe { _mm_prefetch::<_MM_HINT_T0>(from.wrapping_add(64 * line)) };
-            }
-        }
+        let from = self.tris.as_ptr().wrapping_add((lines & SLOT) as usize);
+        prefetch_lines(from, (lines >> COUNT_SHIFT) as usize);
     }
 
     /// Runs `walk` with a traversal stack of the size the tree needs: on the call stack for any
@@ -198,6 +177,18 @@ impl Bvh {
                 }
             }
         })
+    }
+}
+
+/// Asks for the `lines` cache lines from `from` on to be brought into the cache.
+#[inline(always)]
+#[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
+fn prefetch_lines<T>(from: *const T, lines: usize) {
+    #[cfg(target_arch = "x86_64")]
+    for line in 0..lines {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: prefetching has no effect on memory, whatever the address
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(from.cast::<i8>().wrapping_add(64 * line)) };
     }
 }
 
