@@ -49,6 +49,7 @@ pub mod formats;
 pub mod materials;
 pub mod mesh;
 pub mod noise;
+mod pages;
 pub mod render;
 pub mod scan;
 pub mod shapes;

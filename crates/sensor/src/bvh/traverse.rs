@@ -2,6 +2,8 @@
 //! against the cone its rays span from the box of their origins, nearest child first, on a
 //! short stack.
 
+use std::mem::MaybeUninit;
+
 use glam::{BVec4A, Vec3, Vec4};
 
 use super::triangle::{Rays4, WIDEN};
@@ -120,11 +122,13 @@ impl Bvh {
     /// tree a real mesh gives, on the heap beyond.
     #[inline(always)]
     fn with_stack<R>(&self, walk: impl FnOnce(Stack<'_>) -> R) -> R {
-        let (mut inline, mut heap) = ([(0, 0.0); STACK], Vec::new());
-        let items: &mut [(u32, f32)] = if self.stack <= STACK {
+        // unwritten: a walk reads only the entries it pushed (zeroing them costs a single
+        // ray's walk a few per cent)
+        let (mut inline, mut heap) = ([const { MaybeUninit::uninit() }; STACK], Vec::new());
+        let items: &mut [MaybeUninit<(u32, f32)>] = if self.stack <= STACK {
             &mut inline
         } else {
-            heap.resize(self.stack, (0, 0.0));
+            heap.resize(self.stack, MaybeUninit::uninit());
             &mut heap
         };
         walk(Stack { items, len: 0 })
@@ -384,7 +388,8 @@ const TINY: f32 = 1e-20;
 /// The nodes a walk has yet to visit, with their entry distances, the nearest on top, in
 /// storage of the size the tree needs.
 struct Stack<'a> {
-    items: &'a mut [(u32, f32)],
+    /// Entries below `len` are written.
+    items: &'a mut [MaybeUninit<(u32, f32)>],
     len: usize,
 }
 
@@ -395,11 +400,20 @@ impl Stack<'_> {
     fn push_sorted(&mut self, base: usize, code: u32, t: f32) {
         let mut j = self.len;
         self.len += 1;
-        while j > base && self.items[j - 1].1 < t {
+        while j > base && self.get(j - 1).1 < t {
             self.items[j] = self.items[j - 1];
             j -= 1;
         }
-        self.items[j] = (code, t);
+        self.items[j].write((code, t));
+    }
+
+    /// Entry `i`, below `len`.
+    #[inline(always)]
+    fn get(&self, i: usize) -> (u32, f32) {
+        debug_assert!(i < self.len);
+        // SAFETY: entries below `len` were written by `push_sorted`, which moves them up only
+        // into places below the new `len`
+        unsafe { self.items[i].assume_init() }
     }
 
     /// The nearest pending node whose entry distance is within `reach`; `None` when the walk is
@@ -407,8 +421,8 @@ impl Stack<'_> {
     #[inline(always)]
     fn pop_within(&mut self, reach: f32) -> Option<u32> {
         while self.len > 0 {
+            let (code, t) = self.get(self.len - 1);
             self.len -= 1;
-            let (code, t) = self.items[self.len];
             if t <= reach {
                 return Some(code);
             }

@@ -241,8 +241,7 @@ fn scan_pixels(
     } else {
         pixels.clear();
         if pixels.capacity() < size {
-            pixels.reserve_exact(size);
-            advise_huge_pages(&mut pixels);
+            pixels = crate::pages::huge_vec(size);
         }
         pixels.par_extend(rayon::iter::repeat_n(Pixel::EMPTY, size));
         Window::default()
@@ -334,24 +333,6 @@ fn floor(x: f32) -> f32 {
         whole
     }
 }
-
-/// Asks the kernel to back the spare capacity of `v` with huge pages (2 MiB) where it can: a
-/// fresh megapixel buffer then takes hundreds of page faults instead of tens of thousands.
-#[cfg(target_os = "linux")]
-fn advise_huge_pages<T>(v: &mut Vec<T>) {
-    const HUGE: usize = 2 << 20;
-    let spare = v.spare_capacity_mut();
-    let (start, len) = (spare.as_mut_ptr() as usize, size_of_val(spare));
-    let (from, to) = (start.next_multiple_of(HUGE), (start + len) / HUGE * HUGE);
-    if to > from {
-        // SAFETY: advice on memory the vector owns and has not yet written; the kernel may
-        // ignore it, and nothing depends on whether it does
-        unsafe { libc::madvise(from as *mut libc::c_void, to - from, libc::MADV_HUGEPAGE) };
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn advise_huge_pages<T>(_: &mut Vec<T>) {}
 
 #[cfg(test)]
 mod tests {
