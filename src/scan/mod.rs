@@ -11,6 +11,8 @@ use sensor::{Frame, Units, World, look_at, nearest_surface, scan};
 
 use crate::error::{CliError, CliResult, choice};
 
+mod lidar;
+
 /// Scan meshes with a simulated depth sensor and write the cloud and images.
 #[derive(Debug, Args)]
 pub struct ScanCmd {
@@ -73,6 +75,9 @@ fn numbers(flag: &str, text: &str, n: usize) -> CliResult<Vec<f32>> {
 impl ScanCmd {
     /// Runs the command.
     pub fn run(&self) -> CliResult<()> {
+        if let Some(lidar) = lidar::named(&self.sensor)? {
+            return self.run_lidar(&lidar);
+        }
         let spec = scene::config::read_sensor(&self.sensor).map_err(|e| match e {
             scene::Error::Io { .. } => CliError::Usage(e.to_string()),
             _ => CliError::Usage(format!("--sensor {e}")),
@@ -86,29 +91,8 @@ impl ScanCmd {
             .map_err(|e| CliError::Usage(format!("--{e}")))?;
         spec.validate()
             .map_err(|e| CliError::Usage(format!("sensor {}: {e}", self.sensor)))?;
-        // each mesh file and its material: FILE@MATERIAL, or FILE with --material's (a file
-        // whose name holds an @ is taken whole)
-        let material = |flag: &str, name: &str| {
-            sensor::Material::named(name).map_err(|e| CliError::Usage(format!("{flag}: {e}")))
-        };
-        let default = material("--material", &self.material)?;
-        let meshes = self
-            .meshes
-            .iter()
-            .map(|mesh| match mesh.rsplit_once('@') {
-                Some((path, name)) if !Path::new(mesh).exists() => {
-                    Ok((Path::new(path), material(&format!("--mesh {mesh}"), name)?))
-                }
-                _ => Ok((Path::new(mesh.as_str()), default)),
-            })
-            .collect::<CliResult<Vec<_>>>()?;
-        // the meshes are read whole, then held as targets and in the BVH: about four times
-        // their files' size
-        let bytes: u64 = meshes
-            .iter()
-            .filter_map(|(path, _)| std::fs::metadata(path).ok())
-            .map(|m| m.len())
-            .sum();
+        let meshes = self.meshes()?;
+        let bytes = mesh_bytes(&meshes);
         crate::memory::ensure_fits(
             spec.scan_memory().saturating_add(bytes.saturating_mul(4)),
             &format!(
@@ -119,19 +103,7 @@ impl ScanCmd {
             ),
             "scan at a lower resolution (a --sampling of 2x2 or 4x4 blocks) or a smaller mesh",
         )?;
-        let v = numbers("look-at", &self.look_at, 6)?;
-        let up = numbers("up", &self.up, 3)?;
-        let pose = look_at(
-            Vec3::new(v[0], v[1], v[2]),
-            Vec3::new(v[3], v[4], v[5]),
-            Vec3::from_slice(&up),
-        )
-        .ok_or_else(|| {
-            CliError::Usage(format!(
-                "--look-at {}: eye and target must differ",
-                self.look_at
-            ))
-        })?;
+        let pose = self.look(look_at)?;
         let frame = choice(
             "frame",
             &self.frame,
@@ -141,39 +113,13 @@ impl ScanCmd {
                 ("blensor", Frame::Blensor),
             ],
         )?;
-        let units = choice(
-            "units",
-            &self.units,
-            &[
-                ("metres", Units::Metres),
-                ("millimetres", Units::Millimetres),
-                ("m", Units::Metres),
-                ("mm", Units::Millimetres),
-            ],
-        )?;
+        let units = self.units()?;
         let formats = self
             .format
             .iter()
             .map(|f| choice("format", f, &CloudFormat::ALL.map(|c| (c.name(), c))))
             .collect::<CliResult<Vec<_>>>()?;
-        let mut targets = Vec::new();
-        for &(path, material) in &meshes {
-            let offset = targets
-                .iter()
-                .map(|t: &sensor::Target| t.instance)
-                .max()
-                .unwrap_or(0);
-            targets.extend(
-                sensor::mesh::read(path)
-                    .map_err(|e| CliError::Usage(e.to_string()))?
-                    .into_iter()
-                    .map(|mut t| {
-                        t.instance += offset;
-                        t.material = material;
-                        t
-                    }),
-            );
-        }
+        let targets = targets(&meshes)?;
         let start = std::time::Instant::now();
         let world = World::new(&targets);
         let result = scan(&world, &spec, &pose, self.seed);
@@ -195,22 +141,14 @@ impl ScanCmd {
                 },
             ));
         }
-        std::fs::create_dir_all(&self.out).map_err(|e| {
-            CliError::Usage(format!(
-                "cannot create output folder {}: {e}",
-                self.out.display()
-            ))
-        })?;
+        self.create_out()?;
         let cloud = result.cloud(false, frame, units);
-        let save = |name: &str, body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>| {
-            write_atomic(&self.out.join(name), body).map_err(|e| CliError::Runtime(e.to_string()))
-        };
         for f in &formats {
-            save(&f.file_name("cloud"), &|w| f.write(w, &cloud))?;
+            self.save(&f.file_name("cloud"), &|w| f.write(w, &cloud))?;
         }
         if self.images {
             for (name, image) in IMAGES {
-                save(name, &|w| image(w, &result))?;
+                self.save(name, &|w| image(w, &result))?;
             }
         }
         let summary = serde_json::json!({
@@ -224,10 +162,7 @@ impl ScanCmd {
             "depth_png_metres_per_unit": DEPTH_PNG_METRES_PER_UNIT,
             "triangles": world.triangle_count(),
         });
-        save("scan.json", &|w| {
-            serde_json::to_writer_pretty(&mut *w, &summary)?;
-            w.write_all(b"\n")
-        })?;
+        self.save_summary(&summary)?;
         note!(
             "{} points from {} of {} pixels ({} triangles) in {:.2} s, written to {}",
             cloud.len(),
@@ -239,6 +174,117 @@ impl ScanCmd {
         );
         Ok(())
     }
+    /// The meshes and their materials: FILE@MATERIAL, or FILE with `--material`'s (a file
+    /// whose name holds an @ is taken whole).
+    fn meshes(&self) -> CliResult<Vec<(&Path, sensor::Material)>> {
+        let material = |flag: &str, name: &str| {
+            sensor::Material::named(name).map_err(|e| CliError::Usage(format!("{flag}: {e}")))
+        };
+        let default = material("--material", &self.material)?;
+        self.meshes
+            .iter()
+            .map(|mesh| match mesh.rsplit_once('@') {
+                Some((path, name)) if !Path::new(mesh).exists() => {
+                    Ok((Path::new(path), material(&format!("--mesh {mesh}"), name)?))
+                }
+                _ => Ok((Path::new(mesh.as_str()), default)),
+            })
+            .collect()
+    }
+
+    /// `--look-at`'s eye and target and `--up`, as `pose(eye, target, up)` makes a pose of them.
+    fn look(
+        &self,
+        pose: fn(Vec3, Vec3, Vec3) -> Option<glam::Affine3A>,
+    ) -> CliResult<glam::Affine3A> {
+        let v = numbers("look-at", &self.look_at, 6)?;
+        let up = numbers("up", &self.up, 3)?;
+        pose(
+            Vec3::new(v[0], v[1], v[2]),
+            Vec3::new(v[3], v[4], v[5]),
+            Vec3::from_slice(&up),
+        )
+        .ok_or_else(|| {
+            CliError::Usage(format!(
+                "--look-at {}: eye and target must differ (and not lie along --up {})",
+                self.look_at, self.up
+            ))
+        })
+    }
+
+    /// `--units`.
+    fn units(&self) -> CliResult<Units> {
+        choice(
+            "units",
+            &self.units,
+            &[
+                ("metres", Units::Metres),
+                ("millimetres", Units::Millimetres),
+                ("m", Units::Metres),
+                ("mm", Units::Millimetres),
+            ],
+        )
+    }
+
+    /// Writes `name` in the output folder, whole or not at all.
+    fn save(
+        &self,
+        name: &str,
+        body: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
+    ) -> CliResult<()> {
+        write_atomic(&self.out.join(name), body).map_err(|e| CliError::Runtime(e.to_string()))
+    }
+
+    /// Writes `summary` as `scan.json`.
+    fn save_summary(&self, summary: &serde_json::Value) -> CliResult<()> {
+        self.save("scan.json", &|w| {
+            serde_json::to_writer_pretty(&mut *w, summary)?;
+            w.write_all(b"\n")
+        })
+    }
+
+    /// Creates the output folder.
+    fn create_out(&self) -> CliResult<()> {
+        std::fs::create_dir_all(&self.out).map_err(|e| {
+            CliError::Usage(format!(
+                "cannot create output folder {}: {e}",
+                self.out.display()
+            ))
+        })
+    }
+}
+
+/// The bytes of the mesh files: read whole, then held as targets and in the BVH, they take
+/// about four times that.
+fn mesh_bytes(meshes: &[(&Path, sensor::Material)]) -> u64 {
+    meshes
+        .iter()
+        .filter_map(|(path, _)| std::fs::metadata(path).ok())
+        .map(|m| m.len())
+        .sum()
+}
+
+/// The meshes as targets, each file its own instances.
+fn targets(meshes: &[(&Path, sensor::Material)]) -> CliResult<Vec<sensor::Target>> {
+    let mut targets = Vec::new();
+    for &(path, material) in meshes {
+        let offset = targets
+            .iter()
+            .map(|t: &sensor::Target| t.instance)
+            .max()
+            .unwrap_or(0);
+        targets.extend(
+            sensor::mesh::read(path)
+                .map_err(|e| CliError::Usage(e.to_string()))?
+                .into_iter()
+                .map(|mut t| {
+                    t.instance += offset;
+                    t.material = material;
+                    t
+                }),
+        );
+    }
+    Ok(targets)
 }
 
 /// Row-major 4×4 matrix.

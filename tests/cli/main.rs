@@ -10,6 +10,7 @@ use kit::{documented_sensor, files_below, motorfactory, run, stderr};
 mod kit;
 
 mod coverage;
+mod lidar;
 mod motor;
 mod rules;
 mod scan;

@@ -24,7 +24,7 @@ fn header(w: &mut dyn Write, dtype: &str, shape: &[usize]) -> Result<()> {
 }
 
 /// Writes an NPY array of little-endian values.
-fn array<T: Copy, const N: usize>(
+pub(super) fn array<T: Copy, const N: usize>(
     w: &mut dyn Write,
     dtype: &str,
     shape: &[usize],
@@ -77,49 +77,63 @@ pub fn write_npy_synmotor(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
 ///
 /// Any error of writing to `w`.
 pub fn write_npz(w: &mut dyn Write, c: &PointCloud) -> Result<()> {
+    let n = c.len();
+    npz(
+        w,
+        n * 12,
+        &[
+            ("xyz", &|w| vec3s(w, &c.xyz)),
+            ("normal", &|w| vec3s(w, &c.normal)),
+            ("intensity", &|w| f32s(w, &c.intensity)),
+            ("snr", &|w| f32s(w, &c.snr)),
+            ("rgb", &|w| rgbs(w, &c.rgb)),
+            ("label", &|w| {
+                array(w, "<u2", &[n], c.class.iter().copied(), u16::to_le_bytes)
+            }),
+            ("instance", &|w| {
+                array(w, "<u4", &[n], c.instance.iter().copied(), u32::to_le_bytes)
+            }),
+            ("wear", &|w| f32s(w, &c.wear)),
+        ],
+    )
+}
+
+/// An NPZ entry: its array's name and the writer of its NPY.
+pub(super) type Entry<'a> = (&'a str, &'a dyn Fn(&mut dyn Write) -> Result<()>);
+
+/// Writes an NPZ of `entries`, stored uncompressed with a fixed timestamp so that the bytes are
+/// reproducible; `largest` is the largest entry's size in bytes (ZIP64 past 2 GiB).
+pub(super) fn npz(w: &mut dyn Write, largest: usize, entries: &[Entry<'_>]) -> Result<()> {
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
     let options = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Stored)
         .last_modified_time(zip::DateTime::default())
-        .large_file(c.len() * 12 > u32::MAX as usize / 2);
-    let n = c.len();
-    let mut entry = |name: &str, body: &dyn Fn(&mut dyn Write) -> Result<()>| -> Result<()> {
+        .large_file(largest > u32::MAX as usize / 2);
+    for (name, body) in entries {
         zip.start_file(format!("{name}.npy"), options)
             .map_err(std::io::Error::other)?;
-        body(&mut zip)
-    };
-    let vectors = |w: &mut dyn Write, v: &[glam::Vec3]| {
-        let components = v.iter().flat_map(|p| p.to_array());
-        array(w, "<f4", &[n, 3], components, f32::to_le_bytes)
-    };
-    entry("xyz", &|w| vectors(w, &c.xyz))?;
-    entry("normal", &|w| vectors(w, &c.normal))?;
-    entry("intensity", &|w| {
-        array(
-            w,
-            "<f4",
-            &[n],
-            c.intensity.iter().copied(),
-            f32::to_le_bytes,
-        )
-    })?;
-    entry("snr", &|w| {
-        array(w, "<f4", &[n], c.snr.iter().copied(), f32::to_le_bytes)
-    })?;
-    entry("rgb", &|w| {
-        array(w, "|u1", &[n, 3], c.rgb.iter().flatten().copied(), |v| [v])
-    })?;
-    entry("label", &|w| {
-        array(w, "<u2", &[n], c.class.iter().copied(), u16::to_le_bytes)
-    })?;
-    entry("instance", &|w| {
-        array(w, "<u4", &[n], c.instance.iter().copied(), u32::to_le_bytes)
-    })?;
-    entry("wear", &|w| {
-        array(w, "<f4", &[n], c.wear.iter().copied(), f32::to_le_bytes)
-    })?;
+        body(&mut zip)?;
+    }
     let bytes = zip.finish().map_err(std::io::Error::other)?.into_inner();
     w.write_all(&bytes)
+}
+
+/// Writes an N×3 float32 NPY of `v`.
+pub(super) fn vec3s(w: &mut dyn Write, v: &[glam::Vec3]) -> Result<()> {
+    let components = v.iter().flat_map(|p| p.to_array());
+    array(w, "<f4", &[v.len(), 3], components, f32::to_le_bytes)
+}
+
+/// Writes an N float32 NPY of `v`.
+pub(super) fn f32s(w: &mut dyn Write, v: &[f32]) -> Result<()> {
+    array(w, "<f4", &[v.len()], v.iter().copied(), f32::to_le_bytes)
+}
+
+/// Writes an N×3 uint8 NPY of colours.
+pub(super) fn rgbs(w: &mut dyn Write, v: &[[u8; 3]]) -> Result<()> {
+    array(w, "|u1", &[v.len(), 3], v.iter().flatten().copied(), |v| {
+        [v]
+    })
 }
 
 /// Writes a float32 H×W depth image in metres (z in the camera frame), NaN where no data.

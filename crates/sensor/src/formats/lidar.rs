@@ -1,0 +1,153 @@
+//! A LiDAR scan's files: Blensor's `.numpy` table and its ideal and noisy PCD pair, as Blensor
+//! writes them, and an NPZ with rings and firing times.
+
+use std::io::{Result, Write};
+
+use glam::{Affine3A, Vec3};
+
+use super::npy::{array, f32s, npz, rgbs, vec3s};
+use super::write_rows;
+use crate::lidar::LidarScan;
+
+/// Python's `%.{digits}e` of `v`: the exponent signed and of at least two digits.
+fn python_e(v: f64, digits: usize) -> String {
+    let s = format!("{v:.digits$e}");
+    let (mantissa, exponent) = s.split_once('e').expect("Rust's {:e} has an exponent");
+    let exponent: i32 = exponent.parse().expect("an integer exponent");
+    let sign = if exponent < 0 { '-' } else { '+' };
+    format!("{mantissa}e{sign}{:02}", exponent.abs())
+}
+
+/// Writes Blensor's `.numpy` table (what `numpy.savetxt` writes, `numpy.loadtxt` reads): a row
+/// of 16 columns a return, `timestamp yaw pitch distance distance_noise x y z x_noise y_noise
+/// z_noise object_id r g b idx`: seconds, radians, metres, the instance as object id, the
+/// colour 0–255 and the ray's index; points moved by `to` (the head's pose for world
+/// coordinates, identity for the head's frame).
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_blensor_numpy(w: &mut dyn Write, scan: &LidarScan, to: &Affine3A) -> Result<()> {
+    write_rows(w, &scan.returns, |r, row| {
+        let (p, q) = (to.transform_point3(r.point), to.transform_point3(r.noisy));
+        let pitch = (r.point.z / r.distance).asin();
+        let columns = [
+            f64::from(r.time),
+            f64::from(r.yaw.to_radians()),
+            f64::from(pitch),
+            f64::from(r.distance),
+            f64::from(r.measured),
+            f64::from(p.x),
+            f64::from(p.y),
+            f64::from(p.z),
+            f64::from(q.x),
+            f64::from(q.y),
+            f64::from(q.z),
+            f64::from(r.instance),
+            f64::from(r.rgb[0]),
+            f64::from(r.rgb[1]),
+            f64::from(r.rgb[2]),
+            f64::from(r.ray),
+        ];
+        let line: Vec<String> = columns.iter().map(|&v| python_e(v, 18)).collect();
+        writeln!(row, "{}", line.join(" "))
+    })
+}
+
+/// Writes one of Blensor's PCD pair (ASCII v0.7, fields `x y z rgb label`, Blensor's
+/// `%f %f %f %.15e %d` rows): the surface points, or with `noisy` the measured ones; `label` is
+/// the class. Points moved by `to`.
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_blensor_pcd(
+    w: &mut dyn Write,
+    scan: &LidarScan,
+    to: &Affine3A,
+    noisy: bool,
+) -> Result<()> {
+    let n = scan.returns.len();
+    write!(
+        w,
+        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z rgb label\n\
+         SIZE 4 4 4 4 4\nTYPE F F F F U\nCOUNT 1 1 1 1 1\nWIDTH {n}\nHEIGHT 1\n\
+         VIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\nDATA ascii\n"
+    )?;
+    write_rows(w, &scan.returns, |r, row| {
+        let p = to.transform_point3(if noisy { r.noisy } else { r.point });
+        let [red, green, blue] = r.rgb.map(u32::from);
+        let rgb = f32::from_bits((red << 16) | (green << 8) | blue);
+        writeln!(
+            row,
+            "{:.6} {:.6} {:.6} {} {}",
+            f64::from(p.x),
+            f64::from(p.y),
+            f64::from(p.z),
+            python_e(f64::from(rgb), 15),
+            r.class
+        )
+    })
+}
+
+/// Writes an NPZ of the returns: `xyz` and `xyz_noisy` (N×3 float32, moved by `to`),
+/// `distance` and `measured` (N float32, metres), `ring` (N uint16, the laser), `time` (N
+/// float32, seconds from the scan's start), `yaw` (N float32, degrees), `label` (N uint16, the
+/// class), `instance` (N uint32), `rgb` (N×3 uint8) and `reflectivity` (N float32).
+///
+/// # Errors
+///
+/// Any error of writing to `w`.
+pub fn write_lidar_npz(w: &mut dyn Write, scan: &LidarScan, to: &Affine3A) -> Result<()> {
+    let r = &scan.returns;
+    let n = r.len();
+    let points = |f: fn(&crate::lidar::LidarReturn) -> Vec3| -> Vec<Vec3> {
+        r.iter().map(|x| to.transform_point3(f(x))).collect()
+    };
+    let floats =
+        |f: fn(&crate::lidar::LidarReturn) -> f32| -> Vec<f32> { r.iter().map(f).collect() };
+    let (xyz, noisy) = (points(|x| x.point), points(|x| x.noisy));
+    let rgb: Vec<[u8; 3]> = r.iter().map(|x| x.rgb).collect();
+    npz(
+        w,
+        n * 12,
+        &[
+            ("xyz", &|w| vec3s(w, &xyz)),
+            ("xyz_noisy", &|w| vec3s(w, &noisy)),
+            ("distance", &|w| f32s(w, &floats(|x| x.distance))),
+            ("measured", &|w| f32s(w, &floats(|x| x.measured))),
+            ("ring", &|w| {
+                array(w, "<u2", &[n], r.iter().map(|x| x.laser), u16::to_le_bytes)
+            }),
+            ("time", &|w| f32s(w, &floats(|x| x.time))),
+            ("yaw", &|w| f32s(w, &floats(|x| x.yaw))),
+            ("label", &|w| {
+                array(w, "<u2", &[n], r.iter().map(|x| x.class), u16::to_le_bytes)
+            }),
+            ("instance", &|w| {
+                array(
+                    w,
+                    "<u4",
+                    &[n],
+                    r.iter().map(|x| x.instance),
+                    u32::to_le_bytes,
+                )
+            }),
+            ("rgb", &|w| rgbs(w, &rgb)),
+            ("reflectivity", &|w| f32s(w, &floats(|x| x.reflectivity))),
+        ],
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_print_as_python_prints_them() {
+        assert_eq!(python_e(0.0, 18), "0.000000000000000000e+00");
+        assert_eq!(python_e(1234.5, 3), "1.234e+03");
+        assert_eq!(python_e(-0.000_125, 2), "-1.25e-04");
+        assert_eq!(python_e(1e-120, 1), "1.0e-120");
+    }
+}

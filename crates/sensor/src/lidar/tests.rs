@@ -1,0 +1,239 @@
+use glam::{Affine3A, Vec3};
+
+use super::*;
+use crate::world::{Classes, Material, Target};
+
+/// A square of side `2·half` in the plane through `centre` spanned by `u` and `v`.
+fn square(centre: Vec3, u: Vec3, v: Vec3, half: f32, reflectivity: f32, class: u16) -> Target {
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    Target {
+        positions: corners
+            .iter()
+            .map(|&(a, b)| centre + (u * a + v * b) * half)
+            .collect(),
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        classes: Classes::Uniform(class),
+        instance: u32::from(class),
+        material: Material {
+            reflectivity,
+            ..Material::default()
+        },
+        wear: None,
+    }
+}
+
+/// A floor 400 m across.
+fn floor() -> World {
+    World::new(&[square(Vec3::ZERO, Vec3::X, Vec3::Y, 200.0, 0.6, 1)])
+}
+
+/// The preset without noise, bias or reflectivity limit.
+fn ideal(name: &str) -> Lidar {
+    let mut lidar = Lidar::preset(name).unwrap();
+    lidar.noise.sigma = 0.0;
+    lidar.reflectivity.distance = f32::INFINITY;
+    lidar.lasers.iter_mut().for_each(|l| l.bias = 0.0);
+    lidar
+}
+
+/// A head `h` metres above the origin, yaw 0 along +x.
+fn above(h: f32) -> Affine3A {
+    head_pose(Vec3::new(0.0, 0.0, h), Vec3::new(1.0, 0.0, h), Vec3::Z).unwrap()
+}
+
+#[test]
+fn every_preset_is_valid_and_blensor_sized() {
+    for name in LIDAR_PRESETS {
+        let lidar = Lidar::preset(name).unwrap();
+        lidar.validate().unwrap();
+        assert_eq!(lidar.name, name);
+    }
+    let hdl = Lidar::preset("velodyne-hdl64e-s2").unwrap();
+    // Blensor's int(360 / 0.1728) columns of 64 lasers: about 133k rays a revolution
+    assert_eq!((hdl.columns(), hdl.rays()), (2083, 133_312));
+    assert_eq!(Lidar::preset("velodyne-vlp16").unwrap().rays(), 16 * 1800);
+    assert_eq!(Lidar::preset("generic-lidar").unwrap().rays(), 1080);
+    assert!(Lidar::preset("velodyne-hdl-64").is_err());
+}
+
+#[test]
+fn on_a_flat_floor_each_ring_lies_at_h_over_tan_elevation() {
+    let (world, h) = (floor(), 1.8);
+    for name in ["velodyne-vlp16", "velodyne-hdl64e-s2", "velodyne-hdl32e"] {
+        let lidar = ideal(name);
+        let scan = scan_lidar(&world, &lidar, &above(h), 7);
+        for r in &scan.returns {
+            let e = lidar.lasers[r.laser as usize].elevation.to_radians();
+            assert!(e < 0.0, "{name}: laser {} looks up yet returned", r.laser);
+            let radius = r.point.truncate().length();
+            let expected = h / (-e).tan();
+            assert!(
+                (radius - expected).abs() <= 1e-4 * expected,
+                "{name}: ring {} at {radius} m, expected {expected} m",
+                r.laser
+            );
+            assert!(
+                (r.point.z + h).abs() < 1e-4,
+                "{name}: the floor is {h} m below"
+            );
+        }
+        // every downward laser in range of the floor returns in every column, the others never
+        let down = lidar
+            .lasers
+            .iter()
+            .filter(|l| {
+                let e = -l.elevation.to_radians();
+                e > 0.0 && h / e.tan() < 199.0 && h / e.sin() < lidar.max_range
+            })
+            .count();
+        assert_eq!(scan.returns.len(), down * lidar.columns(), "{name}");
+        assert_eq!(scan.rays, lidar.rays());
+    }
+}
+
+#[test]
+fn the_rings_hold_their_radius_within_the_noise() {
+    let lidar = Lidar::preset("velodyne-vlp16").unwrap();
+    let scan = scan_lidar(&floor(), &lidar, &above(1.0), 3);
+    let sigma = lidar.noise.sigma;
+    for laser in 0..lidar.lasers.len() {
+        let e = lidar.lasers[laser].elevation.to_radians();
+        let ring: Vec<f32> = scan
+            .returns
+            .iter()
+            .filter(|r| r.laser as usize == laser)
+            .map(|r| r.measured - r.distance)
+            .collect();
+        if e >= 0.0 {
+            assert!(ring.is_empty());
+            continue;
+        }
+        // measured − true distance: mean 0 (the VLP-16 has no bias), deviation sigma
+        let n = ring.len() as f32;
+        let mean = ring.iter().sum::<f32>() / n;
+        let sd = (ring.iter().map(|d| (d - mean).powi(2)).sum::<f32>() / (n - 1.0)).sqrt();
+        assert!(
+            mean.abs() < 4.0 * sigma / n.sqrt(),
+            "laser {laser}: mean {mean}"
+        );
+        assert!((sd / sigma - 1.0).abs() < 0.1, "laser {laser}: sd {sd}");
+    }
+}
+
+#[test]
+fn the_per_laser_bias_reproduces_blensors_table() {
+    let mut lidar = Lidar::preset("velodyne-hdl64e-s2").unwrap();
+    lidar.noise.sigma = 0.0;
+    let blensor = BLENSOR_VELODYNE_BIAS;
+    // Blensor's digits, at the ends and the largest
+    assert_eq!(blensor[0], 0.023188431056485468);
+    assert_eq!(blensor[37], 0.17981608947109032);
+    assert_eq!(blensor[63], 0.06568249229806342);
+    for (laser, &b) in lidar.lasers.iter().zip(&blensor) {
+        assert_eq!(laser.bias, b as f32);
+    }
+    let scan = scan_lidar(&floor(), &lidar, &above(2.0), 0);
+    assert!(scan.returns.len() > 100_000);
+    for r in &scan.returns {
+        let bias = blensor[r.laser as usize];
+        let off = f64::from(r.measured) - f64::from(r.distance);
+        assert!(
+            (off - bias).abs() < 1e-5,
+            "laser {}: {off} against {bias}",
+            r.laser
+        );
+    }
+}
+
+#[test]
+fn the_reflectivity_limit_drops_dark_far_surfaces_only() {
+    // a wall across the generic LiDAR's forward beam at 20 m and at 80 m, dark or bright; the
+    // VLP-16's limit (Blensor's Velodyne: 0.1 at 50 m, +0.01 a metre) asks 0.4 at 80 m
+    let mut lidar = Lidar::preset("velodyne-vlp16").unwrap();
+    lidar.noise.sigma = 0.0;
+    lidar.lasers = vec![Laser {
+        elevation: 0.0,
+        bias: 0.0,
+        delay: 0.0,
+    }];
+    for (distance, reflectivity, kept) in [
+        (20.0, 0.05, true),
+        (80.0, 0.05, false),
+        (80.0, 0.8, true),
+        (80.0, 0.39, false),
+        (80.0, 0.41, true),
+    ] {
+        let wall = square(
+            Vec3::new(distance, 0.0, 0.0),
+            Vec3::Y,
+            Vec3::Z,
+            5.0,
+            reflectivity,
+            2,
+        );
+        let scan = scan_lidar(&World::new(&[wall]), &lidar, &above(0.0), 0);
+        assert_eq!(
+            !scan.returns.is_empty(),
+            kept,
+            "reflectivity {reflectivity} at {distance} m"
+        );
+    }
+}
+
+#[test]
+fn the_distance_table_is_interpolated_and_held_at_its_ends() {
+    let noise = RangeNoise {
+        mu: 9.0,
+        sigma: 9.0,
+        table: vec![[2.0, 0.01, 0.02], [4.0, 0.03, 0.06], [10.0, 0.0, 0.03]],
+    };
+    let close = |a: (f32, f32), b: (f32, f32)| (a.0 - b.0).abs() < 1e-7 && (a.1 - b.1).abs() < 1e-7;
+    assert!(close(noise.at(1.0), (0.01, 0.02)));
+    assert!(close(noise.at(2.0), (0.01, 0.02)));
+    assert!(close(noise.at(3.0), (0.02, 0.04)));
+    assert!(close(noise.at(7.0), (0.015, 0.045)));
+    assert!(close(noise.at(50.0), (0.0, 0.03)));
+    let plain = RangeNoise {
+        table: Vec::new(),
+        ..noise
+    };
+    assert_eq!(plain.at(3.0), (9.0, 9.0));
+}
+
+#[test]
+fn a_scan_is_the_same_whatever_the_threads() {
+    let world = World::new(&[
+        square(Vec3::ZERO, Vec3::X, Vec3::Y, 50.0, 0.6, 1),
+        square(Vec3::new(6.0, 1.0, 1.0), Vec3::Y, Vec3::Z, 1.0, 0.3, 2),
+    ]);
+    let lidar = Lidar::preset("velodyne-hdl32e").unwrap();
+    let pose = above(1.5);
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| scan_lidar(&world, &lidar, &pose, 11))
+    };
+    let one = run(1);
+    assert_eq!(one, run(3));
+    assert!(one.returns.iter().any(|r| r.class == 2));
+    assert_ne!(
+        one,
+        scan_lidar(&world, &lidar, &pose, 12),
+        "the seed draws the noise"
+    );
+}
+
+#[test]
+fn firing_times_follow_the_turn_and_the_firing_order() {
+    let lidar = Lidar::preset("velodyne-vlp16").unwrap();
+    // 0.2° steps at 10 Hz: a column every 55.6 µs, lasers 2.304 µs apart
+    assert!((lidar.time(1, 0) - 0.1 / 1800.0).abs() < 1e-9);
+    assert!((lidar.time(0, 15) - 15.0 * 2.304e-6).abs() < 1e-9);
+    let last = lidar.time(lidar.columns() - 1, 0);
+    assert!((last - 0.1 * 1799.0 / 1800.0).abs() < 1e-6);
+    // yaw 90° points along the head's y (left)
+    let d = lidar.direction(450, 0);
+    assert!(d.x.abs() < 1e-6 && d.y > 0.9 && (d.z - (-15f32).to_radians().sin()).abs() < 1e-6);
+}

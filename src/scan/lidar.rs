@@ -1,0 +1,165 @@
+//! `motorfactory scan` with a rotating LiDAR: one pass of the head at `--look-at`'s eye, its
+//! yaw 0 towards the target, its axis along `--up`.
+
+use glam::{Affine3A, Mat3A, Vec3A};
+use sensor::formats::{CloudFormat, write_blensor_numpy, write_blensor_pcd, write_lidar_npz};
+use sensor::{LIDAR_PRESETS, Lidar, LidarScan, Units, World, head_pose, scan_lidar};
+
+use super::{ScanCmd, mesh_bytes, pose_matrix, targets};
+use crate::error::{CliError, CliResult, choice};
+
+/// The LiDAR called `name`: a preset, or a TOML file with a `lasers` table; `None` for a
+/// camera's preset or file; an error naming every preset for any other name.
+pub(super) fn named(name: &str) -> CliResult<Option<Lidar>> {
+    if LIDAR_PRESETS.contains(&name) {
+        return Lidar::preset(name)
+            .map(Some)
+            .map_err(|e| CliError::Usage(e.to_string()));
+    }
+    let shown = motorgen::shown(name);
+    if !name.ends_with(".toml") {
+        if sensor::PRESETS.contains(&name) {
+            return Ok(None);
+        }
+        let all = sensor::PRESETS.iter().chain(&LIDAR_PRESETS).copied();
+        return Err(CliError::Usage(format!(
+            "--sensor \"{shown}\" is not allowed: expected a preset or a .toml file{}\n  \
+             cameras: {}\n  LiDARs: {}",
+            motorgen::did_you_mean(name, all),
+            sensor::PRESETS.join(", "),
+            LIDAR_PRESETS.join(", "),
+        )));
+    }
+    let text = sensor::files::read_text(name.as_ref(), sensor::files::CONFIG_LIMIT)
+        .map_err(|e| CliError::Usage(format!("--sensor {shown}: {e}")))?;
+    let table: toml::Table = text
+        .parse()
+        .map_err(|e| CliError::Usage(format!("--sensor {shown}: {e}")))?;
+    if !table.contains_key("lasers") {
+        return Ok(None);
+    }
+    let lidar: Lidar = toml::from_str(&text)
+        .map_err(|e| CliError::Usage(format!("--sensor {shown}: {}", e.message())))?;
+    lidar
+        .validate()
+        .map_err(|e| CliError::Usage(format!("--sensor {shown}: {e}")))?;
+    Ok(Some(lidar))
+}
+
+/// A LiDAR's files: Blensor's `.numpy` table and PCD pair, our NPZ with rings and times, and
+/// the cloud formats of the cameras (the measured points).
+#[derive(Clone, Copy)]
+enum LidarFormat {
+    BlensorNumpy,
+    BlensorPcd,
+    Npz,
+    Cloud(CloudFormat),
+}
+
+impl ScanCmd {
+    /// Scans with `lidar`.
+    pub(super) fn run_lidar(&self, lidar: &Lidar) -> CliResult<()> {
+        let meshes = self.meshes()?;
+        let returns = lidar.rays() as u64 * size_of::<sensor::lidar::LidarReturn>() as u64;
+        crate::memory::ensure_fits(
+            returns.saturating_add(mesh_bytes(&meshes).saturating_mul(4)),
+            &format!("a pass of {} ({} rays)", lidar.name, lidar.rays()),
+            "scan a smaller mesh",
+        )?;
+        if self.sampling != "all" || self.images {
+            return Err(CliError::Usage(format!(
+                "--sensor {}: a LiDAR takes neither --sampling nor --images",
+                self.sensor
+            )));
+        }
+        let pose = self.look(head_pose)?;
+        // the head's frame, the world, or the head's frame in Blender's camera axes (x right,
+        // y up, z back: Blensor's scanner object)
+        let blensor = Affine3A {
+            matrix3: Mat3A::from_cols(-Vec3A::Z, -Vec3A::X, Vec3A::Y),
+            translation: Vec3A::ZERO,
+        };
+        let (frame, to) = choice(
+            "frame",
+            &self.frame,
+            &[
+                ("camera", ("head", Affine3A::IDENTITY)),
+                ("world", ("world", pose)),
+                ("blensor", ("blensor", blensor)),
+            ],
+        )?;
+        let units = self.units()?;
+        let scale = match units {
+            Units::Metres => 1.0,
+            Units::Millimetres => 1000.0,
+        };
+        let to = Affine3A::from_scale(glam::Vec3::splat(scale)) * to;
+        let formats = self
+            .format
+            .iter()
+            .map(|f| {
+                let cloud = CloudFormat::ALL.map(|c| (c.name(), LidarFormat::Cloud(c)));
+                let mut options = vec![
+                    ("blensor-numpy", LidarFormat::BlensorNumpy),
+                    ("blensor-pcd", LidarFormat::BlensorPcd),
+                ];
+                options.extend(cloud.into_iter().filter(|(name, _)| *name != "npz"));
+                options.push(("npz", LidarFormat::Npz));
+                choice("format", f, &options)
+            })
+            .collect::<CliResult<Vec<_>>>()?;
+        let targets = targets(&meshes)?;
+        let start = std::time::Instant::now();
+        let world = World::new(&targets);
+        let scan = scan_lidar(&world, lidar, &pose, self.seed);
+        if scan.returns.is_empty() {
+            return Err(CliError::Usage(format!(
+                "the scan holds no return: no surface within {} m of --look-at's eye in the \
+                 lasers' field; move the eye or point --look-at at the mesh",
+                lidar.max_range
+            )));
+        }
+        self.create_out()?;
+        for f in formats {
+            self.write(f, &scan, &to)?;
+        }
+        let summary = serde_json::json!({
+            "sensor": lidar,
+            "head_to_world": pose_matrix(&pose),
+            "seed": self.seed,
+            "frame": frame,
+            "units": units,
+            "rays": scan.rays,
+            "returns": scan.returns.len(),
+            "triangles": world.triangle_count(),
+        });
+        self.save_summary(&summary)?;
+        note!(
+            "{} returns of {} rays ({} triangles) in {:.2} s, written to {}",
+            scan.returns.len(),
+            scan.rays,
+            world.triangle_count(),
+            start.elapsed().as_secs_f64(),
+            self.out.display()
+        );
+        Ok(())
+    }
+
+    /// Writes the files of `format`, points moved by `to`.
+    fn write(&self, format: LidarFormat, scan: &LidarScan, to: &Affine3A) -> CliResult<()> {
+        match format {
+            LidarFormat::BlensorNumpy => {
+                self.save("scan.numpy", &|w| write_blensor_numpy(w, scan, to))
+            }
+            LidarFormat::BlensorPcd => {
+                self.save("scan.pcd", &|w| write_blensor_pcd(w, scan, to, false))?;
+                self.save("scan_noisy.pcd", &|w| write_blensor_pcd(w, scan, to, true))
+            }
+            LidarFormat::Npz => self.save("scan.npz", &|w| write_lidar_npz(w, scan, to)),
+            LidarFormat::Cloud(f) => {
+                let cloud = scan.cloud(to);
+                self.save(&f.file_name("cloud"), &|w| f.write(w, &cloud))
+            }
+        }
+    }
+}
