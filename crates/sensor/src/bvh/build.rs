@@ -8,8 +8,6 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::pages::huge_vec;
-
 use super::{Bvh, COUNT_SHIFT, EMPTY, LEAF, LEAF_SIZE, Node4, SLOT, Tri, leaf_slots};
 
 /// A node of the binary tree: an internal node's children are at `child` and `child + 1`; a
@@ -39,29 +37,28 @@ const PARALLEL: usize = 4096;
 impl Bvh {
     /// Builds the hierarchy over triangles given by vertex positions.
     pub fn build(triangles: &[[Vec3; 3]]) -> Bvh {
+        let mut bvh = Bvh {
+            nodes: Vec::new(),
+            stack: 0,
+            tris: Vec::new(),
+            order: Vec::new(),
+        };
         if triangles.is_empty() {
-            return Bvh {
-                nodes: Vec::new(),
-                stack: 0,
-                tris: Vec::new(),
-                order: Vec::new(),
-            };
+            return bvh;
         }
         assert!(
             triangles.len() <= SLOT as usize,
             "a tree holds at most {SLOT} triangles"
         );
         let (binary, built) = binary_tree(triangles);
-        // a walk jumps across the whole tree: huge pages spare it most TLB misses
-        let mut bvh = Bvh {
-            nodes: huge_vec(triangles.len() / 4),
-            stack: 0,
-            tris: huge_vec(triangles.len()),
-            order: huge_vec(triangles.len()),
-        };
+        bvh.nodes.reserve(triangles.len() / 8);
+        bvh.order.reserve(triangles.len());
         let root = bvh.collapse(&binary, &built, 0);
-        let tris = bvh.order.par_iter().map(|&i| triangles[i as usize]);
-        bvh.tris.par_extend(tris);
+        bvh.tris = bvh
+            .order
+            .par_iter()
+            .map(|&i| triangles[i as usize])
+            .collect();
         if root & LEAF != 0 {
             // a lone leaf: give it a node, so that every walk starts at node 0
             let mut node = Node4::VACANT;
