@@ -1,11 +1,14 @@
 //! `motorfactory scan` with a rotating LiDAR: one pass of the head at `--look-at`'s eye, its
 //! yaw 0 towards the target, its axis along `--up`.
 
-use glam::{Affine3A, Mat3A, Vec3A};
-use sensor::formats::{CloudFormat, write_blensor_numpy, write_blensor_pcd, write_lidar_npz};
+use glam::Vec3;
+use sensor::formats::{
+    CloudFormat, write_blensor_numpy, write_blensor_pcd, write_las, write_lidar_npz,
+};
+use sensor::lidar::{LidarFrame, Motion};
 use sensor::{LIDAR_PRESETS, Lidar, LidarScan, Units, World, head_pose, scan_lidar};
 
-use super::{ScanCmd, mesh_bytes, pose_matrix, targets};
+use super::{ScanCmd, mesh_bytes, numbers, pose_matrix, targets};
 use crate::error::{CliError, CliResult, choice};
 
 /// The LiDAR called `name`: a preset, or a TOML file with a `lasers` table; `None` for a
@@ -53,6 +56,7 @@ enum LidarFormat {
     BlensorNumpy,
     BlensorPcd,
     Npz,
+    Las,
     Cloud(CloudFormat),
 }
 
@@ -73,19 +77,13 @@ impl ScanCmd {
             )));
         }
         let pose = self.look(head_pose)?;
-        // the head's frame, the world, or the head's frame in Blender's camera axes (x right,
-        // y up, z back: Blensor's scanner object)
-        let blensor = Affine3A {
-            matrix3: Mat3A::from_cols(-Vec3A::Z, -Vec3A::X, Vec3A::Y),
-            translation: Vec3A::ZERO,
-        };
-        let (frame, to) = choice(
+        let frame = choice(
             "frame",
             &self.frame,
             &[
-                ("camera", ("head", Affine3A::IDENTITY)),
-                ("world", ("world", pose)),
-                ("blensor", ("blensor", blensor)),
+                ("camera", LidarFrame::Head),
+                ("world", LidarFrame::World),
+                ("blensor", LidarFrame::Blensor),
             ],
         )?;
         let units = self.units()?;
@@ -93,7 +91,17 @@ impl ScanCmd {
             Units::Metres => 1.0,
             Units::Millimetres => 1000.0,
         };
-        let to = Affine3A::from_scale(glam::Vec3::splat(scale)) * to;
+        let velocity = numbers("velocity", &self.velocity, 3)?;
+        if !self.turn.is_finite() {
+            return Err(CliError::Usage(format!(
+                "--turn {}: expected degrees a second",
+                self.turn
+            )));
+        }
+        let motion = Motion {
+            velocity: Vec3::from_slice(&velocity),
+            turn: self.turn,
+        };
         let formats = self
             .format
             .iter()
@@ -105,13 +113,14 @@ impl ScanCmd {
                 ];
                 options.extend(cloud.into_iter().filter(|(name, _)| *name != "npz"));
                 options.push(("npz", LidarFormat::Npz));
+                options.push(("las", LidarFormat::Las));
                 choice("format", f, &options)
             })
             .collect::<CliResult<Vec<_>>>()?;
         let targets = targets(&meshes)?;
         let start = std::time::Instant::now();
         let world = World::new(&targets);
-        let scan = scan_lidar(&world, lidar, &pose, self.seed);
+        let scan = scan_lidar(&world, lidar, &pose, &motion, self.seed);
         if scan.returns.is_empty() {
             return Err(CliError::Usage(format!(
                 "the scan holds no return: no surface within {} m of --look-at's eye in the \
@@ -121,11 +130,12 @@ impl ScanCmd {
         }
         self.create_out()?;
         for f in formats {
-            self.write(f, &scan, &to)?;
+            self.write(f, &scan, frame, scale)?;
         }
         let summary = serde_json::json!({
             "sensor": lidar,
             "head_to_world": pose_matrix(&pose),
+            "motion": motion,
             "seed": self.seed,
             "frame": frame,
             "units": units,
@@ -145,19 +155,30 @@ impl ScanCmd {
         Ok(())
     }
 
-    /// Writes the files of `format`, points moved by `to`.
-    fn write(&self, format: LidarFormat, scan: &LidarScan, to: &Affine3A) -> CliResult<()> {
+    /// Writes the files of `format`, points in `frame` scaled by `scale`.
+    fn write(
+        &self,
+        format: LidarFormat,
+        scan: &LidarScan,
+        frame: LidarFrame,
+        scale: f32,
+    ) -> CliResult<()> {
         match format {
-            LidarFormat::BlensorNumpy => {
-                self.save("scan.numpy", &|w| write_blensor_numpy(w, scan, to))
-            }
+            LidarFormat::BlensorNumpy => self.save("scan.numpy", &|w| {
+                write_blensor_numpy(w, scan, frame, scale)
+            }),
             LidarFormat::BlensorPcd => {
-                self.save("scan.pcd", &|w| write_blensor_pcd(w, scan, to, false))?;
-                self.save("scan_noisy.pcd", &|w| write_blensor_pcd(w, scan, to, true))
+                self.save("scan.pcd", &|w| {
+                    write_blensor_pcd(w, scan, frame, scale, false)
+                })?;
+                self.save("scan_noisy.pcd", &|w| {
+                    write_blensor_pcd(w, scan, frame, scale, true)
+                })
             }
-            LidarFormat::Npz => self.save("scan.npz", &|w| write_lidar_npz(w, scan, to)),
+            LidarFormat::Npz => self.save("scan.npz", &|w| write_lidar_npz(w, scan, frame, scale)),
+            LidarFormat::Las => self.save("scan.las", &|w| write_las(w, scan, frame, scale)),
             LidarFormat::Cloud(f) => {
-                let cloud = scan.cloud(to);
+                let cloud = scan.cloud(frame, scale);
                 self.save(&f.file_name("cloud"), &|w| f.write(w, &cloud))
             }
         }

@@ -50,6 +50,13 @@ pub struct ScanCmd {
     /// Units of the written points: metres or millimetres (m and mm also work).
     #[arg(long, default_value = "metres")]
     units: String,
+    /// A LiDAR's velocity during its pass, metres a second along the world's axes: each laser
+    /// fires from where the head is then.
+    #[arg(long, default_value = "0,0,0", allow_hyphen_values = true)]
+    velocity: String,
+    /// A LiDAR's turn about its axis during its pass, degrees a second.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    turn: f32,
     /// Noise seed.
     #[arg(long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::error::seed)]
     seed: u64,
@@ -77,6 +84,12 @@ impl ScanCmd {
     pub fn run(&self) -> CliResult<()> {
         if let Some(lidar) = lidar::named(&self.sensor)? {
             return self.run_lidar(&lidar);
+        }
+        if self.velocity != "0,0,0" || self.turn != 0.0 {
+            return Err(CliError::Usage(format!(
+                "--sensor {}: a camera takes neither --velocity nor --turn (a LiDAR does)",
+                self.sensor
+            )));
         }
         let spec = scene::config::read_sensor(&self.sensor).map_err(|e| match e {
             scene::Error::Io { .. } => CliError::Usage(e.to_string()),

@@ -59,7 +59,7 @@ fn a_lidar_scan_writes_blensors_files_and_ours_the_same_for_any_threads() {
     let dir = tempfile::tempdir().unwrap();
     let all = [
         "--format",
-        "blensor-numpy,blensor-pcd,npz,ply,pcd",
+        "blensor-numpy,blensor-pcd,npz,las,ply,pcd",
         "--seed",
         "5",
     ];
@@ -77,6 +77,7 @@ fn a_lidar_scan_writes_blensors_files_and_ours_the_same_for_any_threads() {
             "cloud.pcd",
             "cloud.ply",
             "scan.json",
+            "scan.las",
             "scan.npz",
             "scan.numpy",
             "scan.pcd",
@@ -112,6 +113,14 @@ fn a_lidar_scan_writes_blensors_files_and_ours_the_same_for_any_threads() {
         assert_eq!(text.lines().count(), 11 + returns, "{name}");
     }
     assert_ne!(files["scan.pcd"], files["scan_noisy.pcd"]);
+    // LAS 1.4 (read back by laspy in CI): its signature, version and point count
+    let las = &files["scan.las"];
+    assert_eq!(&las[..4], b"LASF");
+    assert_eq!((las[24], las[25]), (1, 4));
+    assert_eq!(
+        u64::from_le_bytes(las[247..255].try_into().unwrap()),
+        returns as u64
+    );
     assert!(
         files == scan_with("2"),
         "LiDAR files differ between 1 and 2 threads"
@@ -133,7 +142,7 @@ fn a_lidar_refuses_what_it_cannot_take_and_writes_nothing() {
             "a LiDAR takes neither",
         ),
         ("velodyne-vlp16", &["--images"], "a LiDAR takes neither"),
-        ("velodyne-vlp16", &["--format", "las"], "--format"),
+        ("velodyne-vlp16", &["--format", "e57"], "--format"),
         ("velodyne-vlp16", &["--frame", "lens"], "--frame"),
         (
             lasers.to_str().unwrap(),
@@ -141,6 +150,17 @@ fn a_lidar_refuses_what_it_cannot_take_and_writes_nothing() {
             "resolution must be a positive number",
         ),
         ("velodyne-vlp-16", &[], "did you mean `velodyne-vlp16`?"),
+        (
+            "velodyne-vlp16",
+            &["--velocity", "1,0"],
+            "--velocity 1,0: expected 3",
+        ),
+        (
+            "zivid-2plus-m60",
+            &["--velocity", "1,0,0"],
+            "a camera takes neither",
+        ),
+        ("ideal", &["--turn", "5"], "a camera takes neither"),
     ] {
         let o = scan_hall(dir.path(), sensor, &out, "1", args);
         assert_eq!(
@@ -238,4 +258,24 @@ fn the_documented_lidar_presets_are_the_presets() {
             row[1]
         );
     }
+}
+
+#[test]
+fn a_moving_lidar_fires_each_laser_from_where_the_head_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let scan = |name: &str, args: &[&str]| {
+        let out = dir.path().join(name);
+        let all = [&["--format", "npz", "--frame", "world"][..], args].concat();
+        let o = scan_hall(dir.path(), "velodyne-vlp16", &out, "2", &all);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let summary: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("scan.json")).unwrap()).unwrap();
+        (std::fs::read(out.join("scan.npz")).unwrap(), summary)
+    };
+    let (still, s) = scan("still", &[]);
+    let (driving, d) = scan("driving", &["--velocity", "1.5,0,0", "--turn", "-20"]);
+    assert_eq!(s["motion"]["velocity"], serde_json::json!([0.0, 0.0, 0.0]));
+    assert_eq!(d["motion"]["velocity"], serde_json::json!([1.5, 0.0, 0.0]));
+    assert_eq!(d["motion"]["turn"], -20.0);
+    assert_ne!(still, driving);
 }

@@ -1,13 +1,14 @@
 """Reads a LiDAR scan's files back with independent readers (numpy.loadtxt for Blensor's
-.numpy table, Open3D for its PCD pair, numpy for our NPZ) and checks them against each other,
-against scan.json's laser table and against the geometry of a ray.
+.numpy table, Open3D for its PCD pair, laspy for the LAS, numpy for our NPZ) and checks them
+against each other, against scan.json's laser table and against the geometry of a ray.
 
 Usage: python3 tests/python/check_lidar.py SCAN_DIR
-(the scan written with --format blensor-numpy,blensor-pcd,npz in the head's frame)
+(the scan written with --format blensor-numpy,blensor-pcd,npz,las in the head's frame)
 """
 import json
 import sys
 
+import laspy
 import numpy as np
 import open3d as o3d
 
@@ -53,6 +54,18 @@ def main(scan_dir):
         check(f"{name}: label is the class", np.array_equal(label, npz["label"]))
         colours = cloud.point.colors.numpy()
         check(f"{name}: colours are the npz rgb", np.array_equal(colours, npz["rgb"]))
+    las = laspy.read(f"{scan_dir}/scan.las")
+    check("LAS 1.4, point format 7", (str(las.header.version), las.header.point_format.id) == ("1.4", 7),
+          (las.header.version, las.header.point_format.id))
+    check("LAS: every return", len(las.points) == n, len(las.points))
+    check("LAS: the measured points to 0.1 mm", np.abs(np.stack([las.x, las.y, las.z], 1) - noisy).max() <= 5.1e-5)
+    check("LAS: classification is the class", np.array_equal(las.classification, npz["label"]))
+    check("LAS: point source is the instance", np.array_equal(las.point_source_id, npz["instance"]))
+    check("LAS: user data is the ring", np.array_equal(las.user_data, ring))
+    check("LAS: GPS time is the firing time", np.allclose(las.gps_time, t, atol=1e-7))
+    check("LAS: single returns", np.all(las.return_number == 1) and np.all(las.number_of_returns == 1))
+    check("LAS: intensity is the reflectivity", np.array_equal(las.intensity, np.round(npz["reflectivity"].astype(np.float64) * 65535).astype(np.uint16)))
+    check("LAS: 16-bit colours", np.array_equal(np.stack([las.red, las.green, las.blue], 1), npz["rgb"].astype(np.uint16) * 257))
     return report("LiDAR outputs")
 
 

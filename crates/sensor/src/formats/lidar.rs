@@ -1,13 +1,13 @@
 //! A LiDAR scan's files: Blensor's `.numpy` table and its ideal and noisy PCD pair, as Blensor
 //! writes them, and an NPZ with rings and firing times.
 
-use std::io::{Result, Write};
+use std::io::{Cursor, Result, Write};
 
-use glam::{Affine3A, Vec3};
+use glam::Vec3;
 
 use super::npy::{array, f32s, npz, rgbs, vec3s};
 use super::write_rows;
-use crate::lidar::LidarScan;
+use crate::lidar::{LidarFrame, LidarReturn, LidarScan};
 
 /// Python's `%.{digits}e` of `v`: the exponent signed and of at least two digits.
 fn python_e(v: f64, digits: usize) -> String {
@@ -21,14 +21,19 @@ fn python_e(v: f64, digits: usize) -> String {
 /// Writes Blensor's `.numpy` table (what `numpy.savetxt` writes, `numpy.loadtxt` reads): a row
 /// of 16 columns a return, `timestamp yaw pitch distance distance_noise x y z x_noise y_noise
 /// z_noise object_id r g b idx`: seconds, radians, metres, the instance as object id, the
-/// colour 0–255 and the ray's index; points moved by `to` (the head's pose for world
-/// coordinates, identity for the head's frame).
+/// colour 0–255 and the ray's index; points in `frame`, lengths multiplied by `scale`.
 ///
 /// # Errors
 ///
 /// Any error of writing to `w`.
-pub fn write_blensor_numpy(w: &mut dyn Write, scan: &LidarScan, to: &Affine3A) -> Result<()> {
+pub fn write_blensor_numpy(
+    w: &mut dyn Write,
+    scan: &LidarScan,
+    frame: LidarFrame,
+    scale: f32,
+) -> Result<()> {
     write_rows(w, &scan.returns, |r, row| {
+        let to = scan.to_frame(r, frame, scale);
         let (p, q) = (to.transform_point3(r.point), to.transform_point3(r.noisy));
         let pitch = (r.point.z / r.distance).asin();
         let columns = [
@@ -56,7 +61,7 @@ pub fn write_blensor_numpy(w: &mut dyn Write, scan: &LidarScan, to: &Affine3A) -
 
 /// Writes one of Blensor's PCD pair (ASCII v0.7, fields `x y z rgb label`, Blensor's
 /// `%f %f %f %.15e %d` rows): the surface points, or with `noisy` the measured ones; `label` is
-/// the class. Points moved by `to`.
+/// the class. Points in `frame`, lengths multiplied by `scale`.
 ///
 /// # Errors
 ///
@@ -64,7 +69,8 @@ pub fn write_blensor_numpy(w: &mut dyn Write, scan: &LidarScan, to: &Affine3A) -
 pub fn write_blensor_pcd(
     w: &mut dyn Write,
     scan: &LidarScan,
-    to: &Affine3A,
+    frame: LidarFrame,
+    scale: f32,
     noisy: bool,
 ) -> Result<()> {
     let n = scan.returns.len();
@@ -75,6 +81,7 @@ pub fn write_blensor_pcd(
          VIEWPOINT 0 0 0 1 0 0 0\nPOINTS {n}\nDATA ascii\n"
     )?;
     write_rows(w, &scan.returns, |r, row| {
+        let to = scan.to_frame(r, frame, scale);
         let p = to.transform_point3(if noisy { r.noisy } else { r.point });
         let [red, green, blue] = r.rgb.map(u32::from);
         let rgb = f32::from_bits((red << 16) | (green << 8) | blue);
@@ -90,7 +97,8 @@ pub fn write_blensor_pcd(
     })
 }
 
-/// Writes an NPZ of the returns: `xyz` and `xyz_noisy` (N×3 float32, moved by `to`),
+/// Writes an NPZ of the returns: `xyz` and `xyz_noisy` (N×3 float32, in `frame`, lengths
+/// multiplied by `scale`),
 /// `distance` and `measured` (N float32, metres), `ring` (N uint16, the laser), `time` (N
 /// float32, seconds from the scan's start), `yaw` (N float32, degrees), `label` (N uint16, the
 /// class), `instance` (N uint32), `rgb` (N×3 uint8) and `reflectivity` (N float32).
@@ -98,14 +106,20 @@ pub fn write_blensor_pcd(
 /// # Errors
 ///
 /// Any error of writing to `w`.
-pub fn write_lidar_npz(w: &mut dyn Write, scan: &LidarScan, to: &Affine3A) -> Result<()> {
+pub fn write_lidar_npz(
+    w: &mut dyn Write,
+    scan: &LidarScan,
+    frame: LidarFrame,
+    scale: f32,
+) -> Result<()> {
     let r = &scan.returns;
     let n = r.len();
-    let points = |f: fn(&crate::lidar::LidarReturn) -> Vec3| -> Vec<Vec3> {
-        r.iter().map(|x| to.transform_point3(f(x))).collect()
+    let points = |f: fn(&LidarReturn) -> Vec3| -> Vec<Vec3> {
+        r.iter()
+            .map(|x| scan.to_frame(x, frame, scale).transform_point3(f(x)))
+            .collect()
     };
-    let floats =
-        |f: fn(&crate::lidar::LidarReturn) -> f32| -> Vec<f32> { r.iter().map(f).collect() };
+    let floats = |f: fn(&LidarReturn) -> f32| -> Vec<f32> { r.iter().map(f).collect() };
     let (xyz, noisy) = (points(|x| x.point), points(|x| x.noisy));
     let rgb: Vec<[u8; 3]> = r.iter().map(|x| x.rgb).collect();
     npz(
@@ -137,6 +151,67 @@ pub fn write_lidar_npz(w: &mut dyn Write, scan: &LidarScan, to: &Affine3A) -> Re
             ("reflectivity", &|w| f32s(w, &floats(|x| x.reflectivity))),
         ],
     )
+}
+
+/// Writes LAS 1.4, point format 7 (`las` crate), the measured points in `frame` scaled by
+/// `scale` to 0.1 mm (in the file's units): `intensity` the reflectivity × 65535, return 1 of 1,
+/// `gps_time` the seconds from the pass's start, `classification` the class (0–255),
+/// `point_source_id` the instance (0–65535), `user_data` the ring, `scan_angle` the laser's
+/// elevation in degrees, the colour as 16 bits a channel. No creation date, so the bytes are
+/// reproducible.
+///
+/// # Errors
+///
+/// Any error of writing to `w`, or of the `las` crate (in words).
+pub fn write_las(w: &mut dyn Write, scan: &LidarScan, frame: LidarFrame, scale: f32) -> Result<()> {
+    use las::point::Classification;
+    let las_error = |e: las::Error| std::io::Error::other(e.to_string());
+    let mut builder = las::Builder::from((1, 4));
+    builder.date = None;
+    builder.generating_software = "motorfactory".into();
+    builder.point_format = las::point::Format::new(7).map_err(las_error)?;
+    let unit = 1e-4 * f64::from(scale);
+    let axis = las::Transform {
+        scale: unit,
+        offset: 0.0,
+    };
+    builder.transforms = las::Vector {
+        x: axis,
+        y: axis,
+        z: axis,
+    };
+    let header = builder.into_header().map_err(las_error)?;
+    let mut writer = las::Writer::new(Cursor::new(Vec::new()), header).map_err(las_error)?;
+    for r in &scan.returns {
+        let p = scan.to_frame(r, frame, scale).transform_point3(r.noisy);
+        let class = u8::try_from(r.class).unwrap_or(u8::MAX);
+        let colour = |c: u8| u16::from(c) * 257;
+        let point = las::Point {
+            x: f64::from(p.x),
+            y: f64::from(p.y),
+            z: f64::from(p.z),
+            intensity: (r.reflectivity.clamp(0.0, 1.0) * 65535.0).round() as u16,
+            return_number: 1,
+            number_of_returns: 1,
+            // 12 is the overlap class of LAS 1.3, which the crate refuses; LAS 1.4 has a flag
+            classification: Classification::new(class).unwrap_or(Classification::Reserved(class)),
+            scan_angle: (r.noisy.z / r.measured.abs().max(f32::MIN_POSITIVE))
+                .asin()
+                .to_degrees(),
+            user_data: u8::try_from(r.laser).unwrap_or(u8::MAX),
+            point_source_id: u16::try_from(r.instance).unwrap_or(u16::MAX),
+            gps_time: Some(f64::from(r.time)),
+            color: Some(las::Color {
+                red: colour(r.rgb[0]),
+                green: colour(r.rgb[1]),
+                blue: colour(r.rgb[2]),
+            }),
+            ..Default::default()
+        };
+        writer.write_point(point).map_err(las_error)?;
+    }
+    let bytes = writer.into_inner().map_err(las_error)?.into_inner();
+    w.write_all(&bytes)
 }
 
 #[cfg(test)]

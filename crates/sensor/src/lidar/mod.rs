@@ -8,18 +8,17 @@
 //! along (cos e cos α, cos e sin α, sin e).
 
 mod presets;
+mod scan;
 #[cfg(test)]
 mod tests;
 
 use glam::{Affine3A, Mat3A, Vec3, Vec3A};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::cloud::PointCloud;
 use crate::noise::PixelRng;
-use crate::world::World;
 
 pub use presets::{BLENSOR_VELODYNE_BIAS, LIDAR_PRESETS};
+pub use scan::{LidarFrame, LidarReturn, LidarScan, Motion, scan_lidar};
 
 /// One laser of a head.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -126,48 +125,6 @@ pub struct Lidar {
     pub reflectivity: ReflectivityLimit,
 }
 
-/// One return of a scan.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LidarReturn {
-    /// Seconds from the scan's start at which the laser fired.
-    pub time: f32,
-    /// Yaw of the laser's column, degrees in [0, 360).
-    pub yaw: f32,
-    /// The laser (its ring).
-    pub laser: u16,
-    /// The ray's index: column × lasers + laser.
-    pub ray: u32,
-    /// Distance to the surface, metres.
-    pub distance: f32,
-    /// The measured distance: with bias and noise.
-    pub measured: f32,
-    /// The surface point in the head's frame.
-    pub point: Vec3,
-    /// The measured point in the head's frame: along the ray at the measured distance.
-    pub noisy: Vec3,
-    /// The surface's unit normal in the head's frame, facing the head.
-    pub normal: Vec3,
-    /// Semantic class.
-    pub class: u16,
-    /// Instance id.
-    pub instance: u32,
-    /// Diffuse colour of the surface, 8 bits a channel (Blensor's `int(255·colour)`).
-    pub rgb: [u8; 3],
-    /// Diffuse reflectivity of the surface.
-    pub reflectivity: f32,
-}
-
-/// The returns of one pass of a head, in firing order.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LidarScan {
-    /// The head-to-world pose.
-    pub pose: Affine3A,
-    /// Rays fired.
-    pub rays: usize,
-    /// The returns.
-    pub returns: Vec<LidarReturn>,
-}
-
 impl Lidar {
     /// Columns fired in a pass from `start` to `end` (as Blensor counts them, whole steps).
     pub fn columns(&self) -> usize {
@@ -258,74 +215,4 @@ pub fn head_pose(position: Vec3, towards: Vec3, up: Vec3) -> Option<Affine3A> {
         matrix3: Mat3A::from_cols(x.into(), z.cross(x).into(), z.into()),
         translation: Vec3A::from(position),
     })
-}
-
-/// One pass of `lidar` at `pose` (head to world) over `world`, noise drawn from `seed`: the
-/// same returns for any number of threads.
-pub fn scan_lidar(world: &World, lidar: &Lidar, pose: &Affine3A, seed: u64) -> LidarScan {
-    let lasers = lidar.lasers.len();
-    let origin = Vec3::from(pose.translation);
-    let to_head = pose.inverse();
-    let returns = (0..lidar.columns())
-        .into_par_iter()
-        .flat_map_iter(|column| {
-            (0..lasers).filter_map(move |laser| {
-                let local = lidar.direction(column, laser);
-                let dir = pose.transform_vector3(local).normalize();
-                let hit = world.cast(origin, dir, lidar.max_range)?;
-                let reflectivity = hit.material.reflectivity;
-                if !lidar.reflectivity.returns(reflectivity, hit.t) {
-                    return None;
-                }
-                let ray = (column * lasers + laser) as u32;
-                let noise = lidar.noise.draw(hit.t, PixelRng::new(seed, u64::from(ray)));
-                let measured = hit.t + lidar.lasers[laser].bias + noise;
-                Some(LidarReturn {
-                    time: lidar.time(column, laser),
-                    yaw: lidar.yaw(column).rem_euclid(360.0),
-                    laser: laser as u16,
-                    ray,
-                    distance: hit.t,
-                    measured,
-                    point: local * hit.t,
-                    noisy: local * measured,
-                    normal: to_head.transform_vector3(hit.normal),
-                    class: hit.class,
-                    instance: hit.instance,
-                    rgb: hit
-                        .material
-                        .colour
-                        .map(|c| (c.clamp(0.0, 1.0) * 255.0) as u8),
-                    reflectivity,
-                })
-            })
-        })
-        .collect();
-    LidarScan {
-        pose: *pose,
-        rays: lidar.rays(),
-        returns,
-    }
-}
-
-impl LidarScan {
-    /// The measured points as a cloud, moved by `to` (the pose for world coordinates): the
-    /// normal, the reflectivity as intensity, the colour and the labels of each; no pattern
-    /// SNR or rust.
-    pub fn cloud(&self, to: &Affine3A) -> PointCloud {
-        let r = &self.returns;
-        PointCloud {
-            xyz: r.iter().map(|x| to.transform_point3(x.noisy)).collect(),
-            normal: r
-                .iter()
-                .map(|x| to.transform_vector3(x.normal).normalize_or_zero())
-                .collect(),
-            intensity: r.iter().map(|x| x.reflectivity).collect(),
-            rgb: r.iter().map(|x| x.rgb).collect(),
-            snr: vec![0.0; r.len()],
-            class: r.iter().map(|x| x.class).collect(),
-            instance: r.iter().map(|x| x.instance).collect(),
-            wear: vec![0.0; r.len()],
-        }
-    }
 }

@@ -1,7 +1,7 @@
 use glam::{Affine3A, Vec3};
 
 use super::*;
-use crate::world::{Classes, Material, Target};
+use crate::world::{Classes, Material, Target, World};
 
 /// A square of side `2·half` in the plane through `centre` spanned by `u` and `v`.
 fn square(centre: Vec3, u: Vec3, v: Vec3, half: f32, reflectivity: f32, class: u16) -> Target {
@@ -36,6 +36,11 @@ fn ideal(name: &str) -> Lidar {
     lidar
 }
 
+/// A head standing still.
+fn still() -> Motion {
+    Motion::default()
+}
+
 /// A head `h` metres above the origin, yaw 0 along +x.
 fn above(h: f32) -> Affine3A {
     head_pose(Vec3::new(0.0, 0.0, h), Vec3::new(1.0, 0.0, h), Vec3::Z).unwrap()
@@ -61,7 +66,7 @@ fn on_a_flat_floor_each_ring_lies_at_h_over_tan_elevation() {
     let (world, h) = (floor(), 1.8);
     for name in ["velodyne-vlp16", "velodyne-hdl64e-s2", "velodyne-hdl32e"] {
         let lidar = ideal(name);
-        let scan = scan_lidar(&world, &lidar, &above(h), 7);
+        let scan = scan_lidar(&world, &lidar, &above(h), &still(), 7);
         for r in &scan.returns {
             let e = lidar.lasers[r.laser as usize].elevation.to_radians();
             assert!(e < 0.0, "{name}: laser {} looks up yet returned", r.laser);
@@ -94,7 +99,7 @@ fn on_a_flat_floor_each_ring_lies_at_h_over_tan_elevation() {
 #[test]
 fn the_rings_hold_their_radius_within_the_noise() {
     let lidar = Lidar::preset("velodyne-vlp16").unwrap();
-    let scan = scan_lidar(&floor(), &lidar, &above(1.0), 3);
+    let scan = scan_lidar(&floor(), &lidar, &above(1.0), &still(), 3);
     let sigma = lidar.noise.sigma;
     for laser in 0..lidar.lasers.len() {
         let e = lidar.lasers[laser].elevation.to_radians();
@@ -132,7 +137,7 @@ fn the_per_laser_bias_reproduces_blensors_table() {
     for (laser, &b) in lidar.lasers.iter().zip(&blensor) {
         assert_eq!(laser.bias, b as f32);
     }
-    let scan = scan_lidar(&floor(), &lidar, &above(2.0), 0);
+    let scan = scan_lidar(&floor(), &lidar, &above(2.0), &still(), 0);
     assert!(scan.returns.len() > 100_000);
     for r in &scan.returns {
         let bias = blensor[r.laser as usize];
@@ -171,7 +176,7 @@ fn the_reflectivity_limit_drops_dark_far_surfaces_only() {
             reflectivity,
             2,
         );
-        let scan = scan_lidar(&World::new(&[wall]), &lidar, &above(0.0), 0);
+        let scan = scan_lidar(&World::new(&[wall]), &lidar, &above(0.0), &still(), 0);
         assert_eq!(
             !scan.returns.is_empty(),
             kept,
@@ -213,14 +218,14 @@ fn a_scan_is_the_same_whatever_the_threads() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| scan_lidar(&world, &lidar, &pose, 11))
+            .install(|| scan_lidar(&world, &lidar, &pose, &still(), 11))
     };
     let one = run(1);
     assert_eq!(one, run(3));
     assert!(one.returns.iter().any(|r| r.class == 2));
     assert_ne!(
         one,
-        scan_lidar(&world, &lidar, &pose, 12),
+        scan_lidar(&world, &lidar, &pose, &still(), 12),
         "the seed draws the noise"
     );
 }
@@ -236,4 +241,58 @@ fn firing_times_follow_the_turn_and_the_firing_order() {
     // yaw 90° points along the head's y (left)
     let d = lidar.direction(450, 0);
     assert!(d.x.abs() < 1e-6 && d.y > 0.9 && (d.z - (-15f32).to_radians().sin()).abs() < 1e-6);
+}
+
+#[test]
+fn a_moving_heads_skew_is_its_speed_times_the_firing_time() {
+    // one level laser turning once at 10 Hz in 1° steps, the head driving at 2 m/s towards a
+    // wall 10 m ahead and turning 90°/s: the wall's distance at yaw α, fired at t, is
+    // (10 − 2t) / cos(α + 90°/s·t) in the head's frame, and the world sees the wall flat
+    let lidar = Lidar {
+        lasers: vec![Laser {
+            elevation: 0.0,
+            bias: 0.0,
+            delay: 0.0,
+        }],
+        start: 0.0,
+        end: 360.0,
+        resolution: 1.0,
+        rotation: 10.0,
+        ..ideal("velodyne-vlp16")
+    };
+    let wall = square(Vec3::new(10.0, 0.0, 0.0), Vec3::Y, Vec3::Z, 50.0, 0.6, 2);
+    let world = World::new(&[wall]);
+    let motion = Motion {
+        velocity: Vec3::new(2.0, 0.0, 0.0),
+        turn: 90.0,
+    };
+    let scan = scan_lidar(&world, &lidar, &above(0.0), &motion, 0);
+    assert!(scan.returns.len() > 100, "{}", scan.returns.len());
+    for r in &scan.returns {
+        let heading = (r.yaw + motion.turn * r.time).to_radians();
+        let expected = (10.0 - 2.0 * r.time) / heading.cos();
+        assert!(
+            (r.distance - expected).abs() < 1e-4 * expected,
+            "yaw {} at {} s: {} m, expected {expected} m",
+            r.yaw,
+            r.time,
+            r.distance
+        );
+        let world = scan
+            .to_frame(r, LidarFrame::World, 1.0)
+            .transform_point3(r.point);
+        assert!((world.x - 10.0).abs() < 1e-4, "the wall at x = {}", world.x);
+    }
+    // the column at yaw 0 fires first, the one at 359° (its heading 8° on) 0.1 s · 359/360
+    // later: the skew between them is the 0.2 m the head drove meanwhile
+    let first = scan.returns.iter().find(|r| r.yaw == 0.0).unwrap();
+    let last = scan.returns.iter().find(|r| r.yaw == 359.0).unwrap();
+    let drove = 2.0 * (last.time - first.time);
+    assert!((drove - 0.2 * 359.0 / 360.0).abs() < 1e-5);
+    let ahead = |r: &LidarReturn| r.distance * (r.yaw + motion.turn * r.time).to_radians().cos();
+    assert!((ahead(first) - ahead(last) - drove).abs() < 1e-4);
+    // standing still, the wall is where it is in every column
+    let still = scan_lidar(&world, &lidar, &above(0.0), &still(), 0);
+    let flat = |r: &LidarReturn| (r.distance * r.yaw.to_radians().cos() - 10.0).abs() < 1e-4;
+    assert!(still.returns.iter().all(flat));
 }
