@@ -51,8 +51,12 @@ pub const LAMINATE: Material = mat(0.55, 0.0, 0.2, [0.55; 3], 0.0, 0.6);
 /// Matte grey paint.
 pub const MATTE_GREY: Material = mat(0.5, 0.0, 0.2, [0.5; 3], 0.0, 0.8);
 
+/// A front-surface mirror: almost all light reflected specularly in a narrow lobe (a LiDAR's
+/// beam bounces off it, see `sensor::lidar`).
+pub const MIRROR: Material = mat(0.04, 0.95, 0.02, [0.9; 3], 1.0, 0.02);
+
 /// The named materials: the library `scan --mesh FILE@NAME` and [`Material::named`] draw on.
-pub const MATERIALS: [(&str, Material); 13] = [
+pub const MATERIALS: [(&str, Material); 14] = [
     ("black-pa66", BLACK_PA66),
     ("white-plastic", WHITE_PLASTIC),
     ("grey-plastic", GREY_PLASTIC),
@@ -66,6 +70,7 @@ pub const MATERIALS: [(&str, Material); 13] = [
     ("ferrite", FERRITE),
     ("laminate", LAMINATE),
     ("matte-grey", MATTE_GREY),
+    ("mirror", MIRROR),
 ];
 
 impl Material {

@@ -110,22 +110,25 @@ pub fn scan_lidar(
                 let time = lidar.time(column, laser);
                 let at = motion.pose(pose, time);
                 let dir = at.transform_vector3(local).normalize();
-                let hit = world.cast(at.translation.into(), dir, lidar.max_range)?;
+                let (hit, distance) =
+                    cast_off_mirrors(world, at.translation.into(), dir, lidar.max_range)?;
                 let reflectivity = hit.material.reflectivity;
-                if !lidar.reflectivity.returns(reflectivity, hit.t) {
+                if !lidar.reflectivity.returns(reflectivity, distance) {
                     return None;
                 }
                 let ray = (column * lasers + laser) as u32;
-                let noise = lidar.noise.draw(hit.t, PixelRng::new(seed, u64::from(ray)));
-                let measured = hit.t + lidar.lasers[laser].bias + noise;
+                let noise = lidar
+                    .noise
+                    .draw(distance, PixelRng::new(seed, u64::from(ray)));
+                let measured = distance + lidar.lasers[laser].bias + noise;
                 Some(LidarReturn {
                     time,
                     yaw: lidar.yaw(column).rem_euclid(360.0),
                     laser: laser as u16,
                     ray,
-                    distance: hit.t,
+                    distance,
                     measured,
-                    point: local * hit.t,
+                    point: local * distance,
                     noisy: local * measured,
                     normal: at.matrix3.transpose() * hit.normal,
                     class: hit.class,
@@ -145,6 +148,39 @@ pub fn scan_lidar(
         rays: lidar.rays(),
         returns,
     }
+}
+
+/// A surface is a mirror to a LiDAR where it reflects at least this share of light specularly
+/// ([`Material::specular`](crate::Material)) ...
+const MIRROR_SPECULAR: f32 = 0.9;
+/// ... in a lobe at most this wide, radians.
+const MIRROR_LOBE: f32 = 0.05;
+/// Mirrors a beam bounces off before it is given up.
+const BOUNCES: usize = 8;
+/// How far from a mirror a bounced beam starts, metres (clear of the mirror's own triangles).
+const CLEAR: f32 = 1e-4;
+
+/// The surface that returns a beam from `origin` along `dir` within `range` and the length of
+/// its path: the first surface, or, where that is a mirror, what the reflected beam meets
+/// (Blensor's mirror: no return from the mirror itself, the path's whole length measured).
+fn cast_off_mirrors(
+    world: &World,
+    mut origin: Vec3,
+    mut dir: Vec3,
+    range: f32,
+) -> Option<(crate::world::SurfaceHit, f32)> {
+    let mut travelled = 0.0;
+    for _ in 0..=BOUNCES {
+        let hit = world.cast(origin, dir, range - travelled)?;
+        travelled += hit.t;
+        let m = &hit.material;
+        if !(m.specular >= MIRROR_SPECULAR && m.lobe <= MIRROR_LOBE) {
+            return Some((hit, travelled));
+        }
+        origin += dir * hit.t + hit.normal * CLEAR;
+        dir = (dir - 2.0 * dir.dot(hit.normal) * hit.normal).normalize();
+    }
+    None
 }
 
 impl LidarScan {

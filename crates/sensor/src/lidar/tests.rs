@@ -296,3 +296,49 @@ fn a_moving_heads_skew_is_its_speed_times_the_firing_time() {
     let flat = |r: &LidarReturn| (r.distance * r.yaw.to_radians().cos() - 10.0).abs() < 1e-4;
     assert!(still.returns.iter().all(flat));
 }
+
+#[test]
+fn a_mirror_returns_nothing_itself_and_what_its_reflection_meets_at_the_whole_path() {
+    // a level beam meets a mirror 5 m ahead turned 45°, which sends it to a wall 8 m to the
+    // left: the return is the wall's, 13 m along the beam as it left the head (Blensor's)
+    let mut lidar = ideal("velodyne-vlp16");
+    lidar.lasers.truncate(1);
+    lidar.lasers[0].elevation = 0.0;
+    (lidar.start, lidar.end, lidar.resolution) = (-2.0, 2.5, 0.5);
+    let diagonal = Vec3::new(1.0, 1.0, 0.0).normalize();
+    let mut mirror = square(Vec3::new(5.0, 0.0, 0.0), diagonal, Vec3::Z, 1.0, 0.04, 2);
+    mirror.material = crate::materials::MIRROR;
+    let wall = square(Vec3::new(5.0, 8.0, 0.0), Vec3::X, Vec3::Z, 5.0, 0.6, 3);
+    let scan = scan_lidar(
+        &World::new(&[mirror, wall]),
+        &lidar,
+        &above(0.0),
+        &still(),
+        0,
+    );
+    assert_eq!(scan.returns.len(), 9);
+    assert!(
+        scan.returns
+            .iter()
+            .all(|r| r.class == 3 && r.distance > 12.0)
+    );
+    let ahead = scan.returns.iter().find(|r| r.yaw == 0.0).unwrap();
+    assert!((ahead.distance - 13.0).abs() < 1e-3, "{}", ahead.distance);
+    assert!((ahead.point - Vec3::new(ahead.distance, 0.0, 0.0)).length() < 1e-5);
+    // a matte plate in the mirror's place returns itself at 5 m
+    let mut plate = square(Vec3::new(5.0, 0.0, 0.0), diagonal, Vec3::Z, 1.0, 0.6, 2);
+    plate.material.specular = 0.5;
+    let wall = square(Vec3::new(5.0, 8.0, 0.0), Vec3::X, Vec3::Z, 5.0, 0.6, 3);
+    let scan = scan_lidar(
+        &World::new(&[plate, wall]),
+        &lidar,
+        &above(0.0),
+        &still(),
+        0,
+    );
+    assert!(
+        scan.returns
+            .iter()
+            .all(|r| r.class == 2 && r.distance < 6.0)
+    );
+}
