@@ -206,6 +206,13 @@ fn a_generic_lidar_toml_scans_its_own_lasers() {
         bias: 0.0,
         delay: 0.0,
     });
+    // a spreading beam's dual returns: where its footprint straddles the box's edges
+    lidar.beam = sensor::lidar::Beam {
+        divergence: 0.01,
+        samples: 16,
+        echoes: sensor::lidar::Echoes::Dual,
+        ..Default::default()
+    };
     std::fs::write(&lasers, toml::to_string(&lidar).unwrap()).unwrap();
     let out = dir.path().join("s");
     let o = scan_hall(
@@ -213,13 +220,24 @@ fn a_generic_lidar_toml_scans_its_own_lasers() {
         lasers.to_str().unwrap(),
         &out,
         "2",
-        &["--format", "npz"],
+        &["--format", "las"],
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("scan.json")).unwrap()).unwrap();
     assert_eq!(summary["sensor"]["name"], "two-layer");
+    assert_eq!(summary["sensor"]["beam"]["echoes"], "dual");
     assert_eq!(summary["rays"], 2 * 1080);
+    // LAS 1.4's header: the point count, then the points by return number
+    let las = std::fs::read(out.join("scan.las")).unwrap();
+    let word = |at: usize| u64::from_le_bytes(las[at..at + 8].try_into().unwrap());
+    let (all, first, second) = (word(247), word(255), word(263));
+    assert_eq!(all, summary["returns"].as_u64().unwrap());
+    assert_eq!(first + second, all);
+    assert!(
+        second > 0 && second < first / 4,
+        "{first} first and {second} second returns"
+    );
 }
 
 #[test]

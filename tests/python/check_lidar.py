@@ -27,7 +27,8 @@ def main(scan_dir):
 
     npz = np.load(f"{scan_dir}/scan.npz")
     check("npz arrays", sorted(npz.files) == sorted(
-        ["xyz", "xyz_noisy", "distance", "measured", "ring", "time", "yaw", "label", "instance", "rgb", "reflectivity"]), npz.files)
+        ["xyz", "xyz_noisy", "distance", "measured", "ring", "echo", "echoes", "time", "yaw", "label", "instance", "rgb",
+         "reflectivity", "intensity"]), npz.files)
     ring = npz["ring"].astype(int)
     check("the ray index is column x lasers + ring", np.array_equal(idx % len(lasers), ring))
     check("npz points are the table's", np.allclose(npz["xyz"], xyz, atol=1e-6) and np.allclose(npz["xyz_noisy"], noisy, atol=1e-6))
@@ -63,8 +64,8 @@ def main(scan_dir):
     check("LAS: point source is the instance", np.array_equal(las.point_source_id, npz["instance"]))
     check("LAS: user data is the ring", np.array_equal(las.user_data, ring))
     check("LAS: GPS time is the firing time", np.allclose(las.gps_time, t, atol=1e-7))
-    check("LAS: single returns", np.all(las.return_number == 1) and np.all(las.number_of_returns == 1))
-    check("LAS: intensity is the reflectivity", np.array_equal(las.intensity, np.round(npz["reflectivity"].astype(np.float64) * 65535).astype(np.uint16)))
+    check("LAS: return numbers are the echoes", np.array_equal(las.return_number, npz["echo"]) and np.array_equal(las.number_of_returns, npz["echoes"]))
+    check("LAS: the intensity", np.array_equal(las.intensity, np.round(npz["intensity"].astype(np.float64) * 65535).astype(np.uint16)))
     check("LAS: 16-bit colours", np.array_equal(np.stack([las.red, las.green, las.blue], 1), npz["rgb"].astype(np.uint16) * 257))
     return report("LiDAR outputs")
 

@@ -99,9 +99,10 @@ pub fn write_blensor_pcd(
 
 /// Writes an NPZ of the returns: `xyz` and `xyz_noisy` (N×3 float32, in `frame`, lengths
 /// multiplied by `scale`),
-/// `distance` and `measured` (N float32, metres), `ring` (N uint16, the laser), `time` (N
-/// float32, seconds from the scan's start), `yaw` (N float32, degrees), `label` (N uint16, the
-/// class), `instance` (N uint32), `rgb` (N×3 uint8) and `reflectivity` (N float32).
+/// `distance` and `measured` (N float32, metres), `ring` (N uint16, the laser), `echo` and
+/// `echoes` (N uint8: which of its beam's echoes, from 1, of how many), `time` (N float32,
+/// seconds from the scan's start), `yaw` (N float32, degrees), `label` (N uint16, the class),
+/// `instance` (N uint32), `rgb` (N×3 uint8), `reflectivity` and `intensity` (N float32).
 ///
 /// # Errors
 ///
@@ -148,13 +149,21 @@ pub fn write_lidar_npz(
                 )
             }),
             ("rgb", &|w| rgbs(w, &rgb)),
+            ("echo", &|w| {
+                array(w, "|u1", &[n], r.iter().map(|x| x.echo), |v| [v])
+            }),
+            ("echoes", &|w| {
+                array(w, "|u1", &[n], r.iter().map(|x| x.echoes), |v| [v])
+            }),
             ("reflectivity", &|w| f32s(w, &floats(|x| x.reflectivity))),
+            ("intensity", &|w| f32s(w, &floats(|x| x.intensity))),
         ],
     )
 }
 
 /// Writes LAS 1.4, point format 7 (`las` crate), the measured points in `frame` scaled by
-/// `scale` to 0.1 mm (in the file's units): `intensity` the reflectivity × 65535, return 1 of 1,
+/// `scale` to 0.1 mm (in the file's units): `intensity` × 65535, the echo's return number and
+/// its beam's number of returns,
 /// `gps_time` the seconds from the pass's start, `classification` the class (0–255),
 /// `point_source_id` the instance (0–65535), `user_data` the ring, `scan_angle` the laser's
 /// elevation in degrees, the colour as 16 bits a channel. No creation date, so the bytes are
@@ -190,9 +199,9 @@ pub fn write_las(w: &mut dyn Write, scan: &LidarScan, frame: LidarFrame, scale: 
             x: f64::from(p.x),
             y: f64::from(p.y),
             z: f64::from(p.z),
-            intensity: (r.reflectivity.clamp(0.0, 1.0) * 65535.0).round() as u16,
-            return_number: 1,
-            number_of_returns: 1,
+            intensity: (r.intensity.clamp(0.0, 1.0) * 65535.0).round() as u16,
+            return_number: r.echo,
+            number_of_returns: r.echoes,
             // 12 is the overlap class of LAS 1.3, which the crate refuses; LAS 1.4 has a flag
             classification: Classification::new(class).unwrap_or(Classification::Reserved(class)),
             scan_angle: (r.noisy.z / r.measured.abs().max(f32::MIN_POSITIVE))

@@ -7,6 +7,7 @@
 //! counter-clockwise seen from above, as in Blensor. A laser at elevation e fired at yaw α points
 //! along (cos e cos α, cos e sin α, sin e).
 
+mod beam;
 mod presets;
 mod scan;
 #[cfg(test)]
@@ -17,6 +18,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::noise::PixelRng;
 
+pub use beam::{Beam, Echoes, MOST_SAMPLES};
 pub use presets::{BLENSOR_VELODYNE_BIAS, LIDAR_PRESETS};
 pub use scan::{LidarFrame, LidarReturn, LidarScan, Motion, scan_lidar};
 
@@ -89,14 +91,14 @@ impl RangeNoise {
         (m0 + (m1 - m0) * f, s0 + (s1 - s0) * f)
     }
 
-    /// A draw of the noise at distance `d` from stream 0 of `rng` (mu alone where sigma is
+    /// A draw of the noise at distance `d` from stream `k` of `rng` (mu alone where sigma is
     /// below 10⁻⁷, as Blensor).
-    fn draw(&self, d: f32, rng: PixelRng) -> f32 {
+    fn draw(&self, d: f32, rng: PixelRng, k: u64) -> f32 {
         let (mu, sigma) = self.at(d);
         if sigma < 1e-7 {
             mu
         } else {
-            mu + sigma * rng.normal(0)
+            mu + sigma * rng.normal(k)
         }
     }
 }
@@ -123,6 +125,9 @@ pub struct Lidar {
     pub noise: RangeNoise,
     /// Dark surfaces far away return nothing.
     pub reflectivity: ReflectivityLimit,
+    /// How a beam spreads and which of its echoes return (by default a thin ray's one echo).
+    #[serde(default)]
+    pub beam: Beam,
 }
 
 impl Lidar {
@@ -181,7 +186,7 @@ impl Lidar {
         if ![r.distance, r.limit, r.slope].iter().all(|v| v.is_finite()) {
             return Err("reflectivity: finite distance, limit and slope".into());
         }
-        Ok(())
+        self.beam.validate()
     }
 
     /// The yaw of `column`, degrees.

@@ -1,7 +1,7 @@
 //! The LiDAR presets: Blensor's scanners with Blensor's tables and defaults, and the Velodyne
 //! VLP-16 from Velodyne's manual.
 
-use super::{Laser, Lidar, RangeNoise, ReflectivityLimit};
+use super::{Beam, Laser, Lidar, RangeNoise, ReflectivityLimit};
 use crate::Error;
 
 /// Names of the LiDAR presets.
@@ -215,6 +215,7 @@ impl Lidar {
                 limit: 0.1,
                 slope: 0.01,
             },
+            beam: Beam::default(),
         };
         Ok(match name {
             "velodyne-hdl64e-s2" => {
@@ -245,6 +246,7 @@ impl Lidar {
                     limit: 0.1,
                     slope: 0.005_333_333,
                 },
+                beam: Beam::default(),
             },
             // Blensor's `generic_lidar.py`, preconfigured as a Hokuyo UTM-30LX
             "generic-lidar" => Lidar {
@@ -261,6 +263,7 @@ impl Lidar {
                     limit: 0.1,
                     slope: 0.005_333_333,
                 },
+                beam: Beam::default(),
             },
             _ => {
                 return Err(Error::Invalid {

@@ -6,6 +6,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::Lidar;
+use super::beam::{Echo, Sample};
 use crate::cloud::PointCloud;
 use crate::noise::PixelRng;
 use crate::world::World;
@@ -58,6 +59,10 @@ pub struct LidarReturn {
     pub laser: u16,
     /// The ray's index: column × lasers + laser.
     pub ray: u32,
+    /// Which of its beam's echoes, from 1, nearest first.
+    pub echo: u8,
+    /// How many echoes its beam returned.
+    pub echoes: u8,
     /// Distance to the surface, metres.
     pub distance: f32,
     /// The measured distance: with bias and noise.
@@ -74,8 +79,11 @@ pub struct LidarReturn {
     pub instance: u32,
     /// Diffuse colour of the surface, 8 bits a channel (Blensor's `int(255·colour)`).
     pub rgb: [u8; 3],
-    /// Diffuse reflectivity of the surface.
+    /// Diffuse reflectivity of the surface (of the footprint's share it fills, for a beam
+    /// that spreads).
     pub reflectivity: f32,
+    /// Intensity, 0–1 (see [`Beam::intensity_reference`](super::Beam)).
+    pub intensity: f32,
 }
 
 /// The returns of one pass of a head, in firing order.
@@ -104,43 +112,64 @@ pub fn scan_lidar(
     let lasers = lidar.lasers.len();
     let returns = (0..lidar.columns())
         .into_par_iter()
-        .flat_map_iter(|column| {
-            (0..lasers).filter_map(move |laser| {
+        .map_init(Vec::new, |samples, column| {
+            let mut out = Vec::new();
+            for laser in 0..lasers {
                 let local = lidar.direction(column, laser);
                 let time = lidar.time(column, laser);
                 let at = motion.pose(pose, time);
                 let dir = at.transform_vector3(local).normalize();
-                let (hit, distance) =
-                    cast_off_mirrors(world, at.translation.into(), dir, lidar.max_range)?;
-                let reflectivity = hit.material.reflectivity;
-                if !lidar.reflectivity.returns(reflectivity, distance) {
-                    return None;
+                samples.clear();
+                for (ray, share) in lidar.beam.footprint(dir) {
+                    if let Some((hit, distance)) =
+                        cast_off_mirrors(world, at.translation.into(), ray, lidar.max_range)
+                    {
+                        samples.push(Sample {
+                            distance,
+                            share,
+                            hit,
+                        });
+                    }
                 }
+                let echoes: Vec<Echo> = lidar
+                    .beam
+                    .echoes(samples, dir)
+                    .into_iter()
+                    .filter(|e| lidar.reflectivity.returns(e.reflectivity, e.distance))
+                    .collect();
                 let ray = (column * lasers + laser) as u32;
-                let noise = lidar
-                    .noise
-                    .draw(distance, PixelRng::new(seed, u64::from(ray)));
-                let measured = distance + lidar.lasers[laser].bias + noise;
-                Some(LidarReturn {
-                    time,
-                    yaw: lidar.yaw(column).rem_euclid(360.0),
-                    laser: laser as u16,
-                    ray,
-                    distance,
-                    measured,
-                    point: local * distance,
-                    noisy: local * measured,
-                    normal: at.matrix3.transpose() * hit.normal,
-                    class: hit.class,
-                    instance: hit.instance,
-                    rgb: hit
-                        .material
-                        .colour
-                        .map(|c| (c.clamp(0.0, 1.0) * 255.0) as u8),
-                    reflectivity,
-                })
-            })
+                let rng = PixelRng::new(seed, u64::from(ray));
+                for (k, echo) in echoes.iter().enumerate() {
+                    let distance = echo.distance;
+                    let noise = lidar.noise.draw(distance, rng, k as u64);
+                    let measured = distance + lidar.lasers[laser].bias + noise;
+                    let hit = &echo.hit;
+                    out.push(LidarReturn {
+                        time,
+                        yaw: lidar.yaw(column).rem_euclid(360.0),
+                        laser: laser as u16,
+                        ray,
+                        echo: k as u8 + 1,
+                        echoes: echoes.len() as u8,
+                        distance,
+                        measured,
+                        point: local * distance,
+                        noisy: local * measured,
+                        normal: at.matrix3.transpose() * hit.normal,
+                        class: hit.class,
+                        instance: hit.instance,
+                        rgb: hit
+                            .material
+                            .colour
+                            .map(|c| (c.clamp(0.0, 1.0) * 255.0) as u8),
+                        reflectivity: echo.reflectivity,
+                        intensity: lidar.beam.intensity(echo),
+                    });
+                }
+            }
+            out
         })
+        .flatten_iter()
         .collect();
     LidarScan {
         pose: *pose,
@@ -199,7 +228,7 @@ impl LidarScan {
     }
 
     /// The measured points as a cloud in `frame` scaled by `scale`: the normal, the
-    /// reflectivity as intensity, the colour and the labels of each; no pattern SNR or rust.
+    /// intensity, the colour and the labels of each; no pattern SNR or rust.
     pub fn cloud(&self, frame: LidarFrame, scale: f32) -> PointCloud {
         let r = &self.returns;
         let to: Vec<Affine3A> = r.iter().map(|x| self.to_frame(x, frame, scale)).collect();
@@ -214,7 +243,7 @@ impl LidarScan {
                 .zip(&to)
                 .map(|(x, to)| to.transform_vector3(x.normal).normalize_or_zero())
                 .collect(),
-            intensity: r.iter().map(|x| x.reflectivity).collect(),
+            intensity: r.iter().map(|x| x.intensity).collect(),
             rgb: r.iter().map(|x| x.rgb).collect(),
             snr: vec![0.0; r.len()],
             class: r.iter().map(|x| x.class).collect(),

@@ -342,3 +342,99 @@ fn a_mirror_returns_nothing_itself_and_what_its_reflection_meets_at_the_whole_pa
             .all(|r| r.class == 2 && r.distance < 6.0)
     );
 }
+
+/// One level laser fired once, straight ahead, thin.
+fn one_beam() -> Lidar {
+    let mut lidar = ideal("velodyne-vlp16");
+    lidar.lasers.truncate(1);
+    lidar.lasers[0].elevation = 0.0;
+    (lidar.start, lidar.end, lidar.resolution) = (0.0, 1.0, 1.0);
+    lidar
+}
+
+#[test]
+fn a_footprint_spreads_the_beam_within_its_divergence() {
+    let beam = Beam {
+        divergence: 0.004,
+        samples: 32,
+        ..Beam::default()
+    };
+    let dir = Vec3::new(0.3, -0.5, 0.8).normalize();
+    let rays: Vec<(Vec3, f32)> = beam.footprint(dir).collect();
+    assert_eq!(rays.len(), 32);
+    assert!((rays.iter().map(|r| r.1).sum::<f32>() - 1.0).abs() < 1e-6);
+    let angles: Vec<f32> = rays.iter().map(|r| r.0.angle_between(dir)).collect();
+    assert!(angles.iter().all(|&a| a <= 0.002 + 1e-6), "{angles:?}");
+    // the profile falls outwards: the centre's rays weigh more than the rim's
+    assert!(rays[0].1 > rays[31].1 * 2.0);
+    // a thin beam is its centre alone
+    let thin: Vec<(Vec3, f32)> = Beam::default().footprint(dir).collect();
+    assert_eq!(thin, [(dir, 1.0)]);
+}
+
+#[test]
+fn a_beam_across_an_edge_returns_both_surfaces_or_their_mix() {
+    // a plate 5 m ahead covers the footprint's right half (y < 0), a wall 10 m ahead the rest
+    let plate = square(Vec3::new(5.0, -1.0, 0.0), Vec3::Y, Vec3::Z, 1.0, 0.6, 2);
+    let wall = square(Vec3::new(10.0, 0.0, 0.0), Vec3::Y, Vec3::Z, 5.0, 0.6, 3);
+    let world = World::new(&[plate, wall]);
+    let scan = |echoes: Echoes, separation: f32| {
+        let mut lidar = one_beam();
+        lidar.beam = Beam {
+            divergence: 0.02,
+            samples: 64,
+            separation,
+            echoes,
+            intensity_reference: 0.0,
+        };
+        scan_lidar(&world, &lidar, &above(0.0), &still(), 0).returns
+    };
+    let dual = scan(Echoes::Dual, 0.75);
+    let got: Vec<(u8, u8, u16)> = dual.iter().map(|r| (r.echo, r.echoes, r.class)).collect();
+    assert_eq!(got, [(1, 2, 2), (2, 2, 3)]);
+    assert!((dual[0].distance - 5.0).abs() < 0.01 && (dual[1].distance - 10.0).abs() < 0.01);
+    // each echo fills about half the footprint: half the reflectivity
+    assert!(
+        dual.iter().all(|r| (r.reflectivity - 0.3).abs() < 0.06),
+        "{dual:?}"
+    );
+    let strongest = scan(Echoes::Strongest, 0.75);
+    assert_eq!(strongest.len(), 1);
+    assert_eq!((strongest[0].class, strongest[0].echoes), (2, 1));
+    let last = scan(Echoes::Last, 0.75);
+    assert_eq!(last[0].class, 3);
+    // closer than the separation, the two merge at their power-weighted mean: a mixed return
+    let mixed = scan(Echoes::Dual, 6.0);
+    assert_eq!(mixed.len(), 1);
+    assert!(
+        (mixed[0].distance - 7.5).abs() < 0.6,
+        "{}",
+        mixed[0].distance
+    );
+    assert!((mixed[0].reflectivity - 0.6).abs() < 1e-4);
+}
+
+#[test]
+fn intensity_falls_with_incidence_and_range_from_its_reference() {
+    // a wall 8 m ahead turned 60° from the beam: 0.6 · cos 60° · (4 / 8)² = 0.075
+    let normal = Vec3::new(0.5, 3f32.sqrt() / 2.0, 0.0);
+    let wall = square(
+        Vec3::new(8.0, 0.0, 0.0),
+        normal.cross(Vec3::Z),
+        Vec3::Z,
+        3.0,
+        0.6,
+        2,
+    );
+    let world = World::new(&[wall]);
+    let mut lidar = one_beam();
+    let blensor = scan_lidar(&world, &lidar, &above(0.0), &still(), 0).returns;
+    assert_eq!(blensor[0].intensity, 0.6);
+    lidar.beam.intensity_reference = 4.0;
+    let physical = scan_lidar(&world, &lidar, &above(0.0), &still(), 0).returns;
+    assert!(
+        (physical[0].intensity - 0.075).abs() < 1e-5,
+        "{}",
+        physical[0].intensity
+    );
+}
