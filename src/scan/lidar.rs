@@ -76,7 +76,10 @@ impl ScanCmd {
                 self.sensor
             )));
         }
-        let pose = self.look(head_pose)?;
+        let pose = self.look(
+            head_pose,
+            &format!("the target must lie off the head's axis (--up {})", self.up),
+        )?;
         let frame = choice(
             "frame",
             &self.frame,

@@ -116,7 +116,7 @@ impl ScanCmd {
             ),
             "scan at a lower resolution (a --sampling of 2x2 or 4x4 blocks) or a smaller mesh",
         )?;
-        let pose = self.look(look_at)?;
+        let pose = self.look(look_at, "eye and target must differ")?;
         let frame = choice(
             "frame",
             &self.frame,
@@ -205,10 +205,12 @@ impl ScanCmd {
             .collect()
     }
 
-    /// `--look-at`'s eye and target and `--up`, as `pose(eye, target, up)` makes a pose of them.
+    /// `--look-at`'s eye and target and `--up`, as `pose(eye, target, up)` makes a pose of them
+    /// (`None`: `needs` says what it needs).
     fn look(
         &self,
         pose: fn(Vec3, Vec3, Vec3) -> Option<glam::Affine3A>,
+        needs: &str,
     ) -> CliResult<glam::Affine3A> {
         let v = numbers("look-at", &self.look_at, 6)?;
         let up = numbers("up", &self.up, 3)?;
@@ -217,12 +219,7 @@ impl ScanCmd {
             Vec3::new(v[3], v[4], v[5]),
             Vec3::from_slice(&up),
         )
-        .ok_or_else(|| {
-            CliError::Usage(format!(
-                "--look-at {}: eye and target must differ (and not lie along --up {})",
-                self.look_at, self.up
-            ))
-        })
+        .ok_or_else(|| CliError::Usage(format!("--look-at {}: {needs}", self.look_at)))
     }
 
     /// `--units`.

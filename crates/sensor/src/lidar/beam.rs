@@ -170,27 +170,29 @@ impl Beam {
                 }
             }
         }
-        let strongest = echoes
-            .iter()
-            .enumerate()
-            .max_by(|a, b| {
-                let received = |e: &Echo| e.power / (e.distance * e.distance);
-                received(a.1).total_cmp(&received(b.1)).then(b.0.cmp(&a.0))
-            })
-            .map(|(i, _)| i);
-        let last = echoes.len().checked_sub(1);
-        let keep: Vec<usize> = match (self.echoes, strongest, last) {
-            (_, None, _) | (_, _, None) => Vec::new(),
-            (Echoes::Strongest, Some(s), _) => vec![s],
-            (Echoes::Last, _, Some(l)) => vec![l],
-            (Echoes::Dual, Some(s), Some(l)) if s == l => vec![s],
-            (Echoes::Dual, Some(s), Some(l)) => vec![s, l],
+        let Some(last) = echoes.len().checked_sub(1) else {
+            return echoes;
         };
-        let mut echoes: Vec<Option<Echo>> = echoes.into_iter().map(Some).collect();
-        keep.into_iter().filter_map(|i| echoes[i].take()).collect()
+        // the most power received (falling with the square of the distance); of equals, the
+        // nearest
+        let received = |e: &Echo| e.power / (e.distance * e.distance);
+        let strongest = (0..echoes.len())
+            .rev()
+            .max_by(|&a, &b| received(&echoes[a]).total_cmp(&received(&echoes[b])))
+            .unwrap_or(last);
+        let keep = |i: usize| match self.echoes {
+            Echoes::Strongest => i == strongest,
+            Echoes::Last => i == last,
+            Echoes::Dual => i == strongest || i == last,
+        };
+        echoes
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, e)| keep(i).then_some(e))
+            .collect()
     }
 
-    /// The intensity of an echo at `distance` of `power` and `reflectivity`.
+    /// The intensity of `echo` (see [`Beam::intensity_reference`]).
     pub(super) fn intensity(&self, echo: &Echo) -> f32 {
         if self.intensity_reference > 0.0 {
             let falloff = (self.intensity_reference / echo.distance).powi(2);

@@ -1,7 +1,9 @@
 //! Rotating multi-beam LiDARs, as Blensor simulates them: a column of lasers fired at each step
 //! of a head turning about its z axis, every return's distance drawn noisy by Blensor's models
-//! (a Gaussian or a distance table, plus a fixed bias per laser), and returns from surfaces too
-//! dark for their distance dropped (Blensor's reflectivity limit).
+//! (a Gaussian or a distance table, plus a fixed bias per laser), returns from surfaces too
+//! dark for their distance dropped (Blensor's reflectivity limit), beams bounced off mirrors.
+//! Beyond Blensor: beams that spread and return several echoes ([`Beam`]), and a head that
+//! moves during its pass ([`Motion`]).
 //!
 //! The head's frame: x forward (yaw 0), y left, z up along the axis it turns about; yaw grows
 //! counter-clockwise seen from above, as in Blensor. A laser at elevation e fired at yaw α points
@@ -155,8 +157,8 @@ impl Lidar {
         if let Some((name, _)) = positive.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
             return Err(format!("{name} must be a positive number"));
         }
-        if self.lasers.is_empty() {
-            return Err("lasers: give at least one".into());
+        if self.lasers.is_empty() || self.lasers.len() > usize::from(u16::MAX) {
+            return Err(format!("lasers: give 1 to {}", u16::MAX));
         }
         if !(self.start.is_finite() && self.end.is_finite() && self.end > self.start) {
             return Err("start and end: end must be past start".into());
@@ -181,6 +183,14 @@ impl Lidar {
                 "noise.table: rows (distance, mu, sigma) by growing distance, sigma 0 or more"
                     .into(),
             );
+        }
+        if self.rays() > u32::MAX as usize {
+            return Err(format!(
+                "resolution: {} columns of {} lasers are more than {} rays",
+                self.columns(),
+                self.lasers.len(),
+                u32::MAX
+            ));
         }
         let r = &self.reflectivity;
         if ![r.distance, r.limit, r.slope].iter().all(|v| v.is_finite()) {

@@ -99,9 +99,9 @@ pub struct LidarScan {
     pub returns: Vec<LidarReturn>,
 }
 
-/// One pass of `lidar` over `world` starting at `pose` (head to world) and moving by `motion`
-/// (each laser fires from where the head is when it fires), noise drawn from `seed`: the same
-/// returns for any number of threads.
+/// One pass of `lidar` (valid: [`Lidar::validate`]) over `world` starting at `pose` (head to
+/// world) and moving by `motion` (each laser fires from where the head is when it fires), noise
+/// drawn from `seed`: the same returns for any number of threads.
 pub fn scan_lidar(
     world: &World,
     lidar: &Lidar,
