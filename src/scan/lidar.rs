@@ -6,7 +6,7 @@ use sensor::formats::{
     CloudFormat, write_blensor_numpy, write_blensor_pcd, write_las, write_lidar_npz,
 };
 use sensor::lidar::{Echoes, LidarFrame, Motion};
-use sensor::{LIDAR_PRESETS, Lidar, LidarScan, Units, World, head_pose, scan_lidar};
+use sensor::{LIDAR_PRESETS, Lidar, LidarScan, World, head_pose, scan_lidar};
 
 use super::{ScanCmd, mesh_bytes, numbers, pose_matrix, targets};
 use crate::error::{CliError, CliResult, choice};
@@ -97,10 +97,7 @@ impl ScanCmd {
             ],
         )?;
         let units = self.units()?;
-        let scale = match units {
-            Units::Metres => 1.0,
-            Units::Millimetres => 1000.0,
-        };
+        let scale = units.scale();
         let velocity = numbers("velocity", &self.velocity, 3)?;
         if !self.turn.is_finite() {
             return Err(CliError::Usage(format!(
@@ -112,20 +109,18 @@ impl ScanCmd {
             velocity: Vec3::from_slice(&velocity),
             turn: self.turn,
         };
+        // the cameras' formats but their NPZ, which the LiDAR's own replaces
+        let cloud = CloudFormat::ALL.map(|c| (c.name(), LidarFormat::Cloud(c)));
+        let mut options = vec![
+            ("blensor-numpy", LidarFormat::BlensorNumpy),
+            ("blensor-pcd", LidarFormat::BlensorPcd),
+        ];
+        options.extend(cloud.into_iter().filter(|(name, _)| *name != "npz"));
+        options.extend([("npz", LidarFormat::Npz), ("las", LidarFormat::Las)]);
         let formats = self
             .format
             .iter()
-            .map(|f| {
-                let cloud = CloudFormat::ALL.map(|c| (c.name(), LidarFormat::Cloud(c)));
-                let mut options = vec![
-                    ("blensor-numpy", LidarFormat::BlensorNumpy),
-                    ("blensor-pcd", LidarFormat::BlensorPcd),
-                ];
-                options.extend(cloud.into_iter().filter(|(name, _)| *name != "npz"));
-                options.push(("npz", LidarFormat::Npz));
-                options.push(("las", LidarFormat::Las));
-                choice("format", f, &options)
-            })
+            .map(|f| choice("format", f, &options))
             .collect::<CliResult<Vec<_>>>()?;
         let targets = targets(&meshes)?;
         let start = std::time::Instant::now();

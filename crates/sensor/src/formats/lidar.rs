@@ -9,13 +9,23 @@ use super::npy::{array, f32s, npz, rgbs, vec3s};
 use super::write_rows;
 use crate::lidar::{LidarFrame, LidarReturn, LidarScan};
 
-/// Python's `%.{digits}e` of `v`: the exponent signed and of at least two digits.
-fn python_e(v: f64, digits: usize) -> String {
-    let s = format!("{v:.digits$e}");
-    let (mantissa, exponent) = s.split_once('e').expect("Rust's {:e} has an exponent");
-    let exponent: i32 = exponent.parse().expect("an integer exponent");
+/// Appends Python's `%.{digits}e` of `v` to `out`: Rust's `{:e}`, its exponent signed and of
+/// at least two digits.
+fn python_e(out: &mut Vec<u8>, v: f64, digits: usize) -> Result<()> {
+    let start = out.len();
+    write!(out, "{v:.digits$e}")?;
+    let e = start
+        + out[start..]
+            .iter()
+            .rposition(|&c| c == b'e')
+            .expect("{:e} has an exponent");
+    let exponent: i32 = std::str::from_utf8(&out[e + 1..])
+        .ok()
+        .and_then(|x| x.parse().ok())
+        .expect("an integer exponent");
+    out.truncate(e);
     let sign = if exponent < 0 { '-' } else { '+' };
-    format!("{mantissa}e{sign}{:02}", exponent.abs())
+    write!(out, "e{sign}{:02}", exponent.abs())
 }
 
 /// Writes Blensor's `.numpy` table (what `numpy.savetxt` writes, `numpy.loadtxt` reads): a row
@@ -54,8 +64,14 @@ pub fn write_blensor_numpy(
             f64::from(r.rgb[2]),
             f64::from(r.ray),
         ];
-        let line: Vec<String> = columns.iter().map(|&v| python_e(v, 18)).collect();
-        writeln!(row, "{}", line.join(" "))
+        for (k, &v) in columns.iter().enumerate() {
+            if k > 0 {
+                row.push(b' ');
+            }
+            python_e(row, v, 18)?;
+        }
+        row.push(b'\n');
+        Ok(())
     })
 }
 
@@ -85,15 +101,15 @@ pub fn write_blensor_pcd(
         let p = to.transform_point3(if noisy { r.noisy } else { r.point });
         let [red, green, blue] = r.rgb.map(u32::from);
         let rgb = f32::from_bits((red << 16) | (green << 8) | blue);
-        writeln!(
+        write!(
             row,
-            "{:.6} {:.6} {:.6} {} {}",
+            "{:.6} {:.6} {:.6} ",
             f64::from(p.x),
             f64::from(p.y),
-            f64::from(p.z),
-            python_e(f64::from(rgb), 15),
-            r.class
-        )
+            f64::from(p.z)
+        )?;
+        python_e(row, f64::from(rgb), 15)?;
+        writeln!(row, " {}", r.class)
     })
 }
 
@@ -229,9 +245,14 @@ mod tests {
 
     #[test]
     fn numbers_print_as_python_prints_them() {
-        assert_eq!(python_e(0.0, 18), "0.000000000000000000e+00");
-        assert_eq!(python_e(1234.5, 3), "1.234e+03");
-        assert_eq!(python_e(-0.000_125, 2), "-1.25e-04");
-        assert_eq!(python_e(1e-120, 1), "1.0e-120");
+        let e = |v: f64, digits: usize| {
+            let mut out = b"x ".to_vec();
+            python_e(&mut out, v, digits).unwrap();
+            String::from_utf8(out).unwrap()
+        };
+        assert_eq!(e(0.0, 18), "x 0.000000000000000000e+00");
+        assert_eq!(e(1234.5, 3), "x 1.234e+03");
+        assert_eq!(e(-0.000_125, 2), "x -1.25e-04");
+        assert_eq!(e(1e-120, 1), "x 1.0e-120");
     }
 }

@@ -136,10 +136,11 @@ pub(super) struct Echo {
 }
 
 impl Beam {
-    /// The echoes `samples` make (sorted by distance on return), as the beam returns them.
-    pub(super) fn echoes(&self, samples: &mut [Sample], dir: Vec3) -> Vec<Echo> {
+    /// The echoes `samples` make (sorted by distance on return), as the beam returns them, in
+    /// `echoes` (cleared first).
+    pub(super) fn echoes(&self, samples: &mut [Sample], dir: Vec3, echoes: &mut Vec<Echo>) {
         samples.sort_by(|a, b| a.distance.total_cmp(&b.distance));
-        let mut echoes: Vec<Echo> = Vec::new();
+        echoes.clear();
         let mut strongest = 0.0;
         let mut last_distance = f32::NEG_INFINITY;
         for s in samples.iter() {
@@ -171,7 +172,7 @@ impl Beam {
             }
         }
         let Some(last) = echoes.len().checked_sub(1) else {
-            return echoes;
+            return;
         };
         // the most power received (falling with the square of the distance); of equals, the
         // nearest
@@ -180,16 +181,16 @@ impl Beam {
             .rev()
             .max_by(|&a, &b| received(&echoes[a]).total_cmp(&received(&echoes[b])))
             .unwrap_or(last);
-        let keep = |i: usize| match self.echoes {
-            Echoes::Strongest => i == strongest,
-            Echoes::Last => i == last,
-            Echoes::Dual => i == strongest || i == last,
-        };
-        echoes
-            .into_iter()
-            .enumerate()
-            .filter_map(|(i, e)| keep(i).then_some(e))
-            .collect()
+        let mut i = 0;
+        echoes.retain(|_| {
+            let keep = match self.echoes {
+                Echoes::Strongest => i == strongest,
+                Echoes::Last => i == last,
+                Echoes::Dual => i == strongest || i == last,
+            };
+            i += 1;
+            keep
+        });
     }
 
     /// The intensity of `echo` (see [`Beam::intensity_reference`]).

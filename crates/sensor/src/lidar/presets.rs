@@ -177,6 +177,15 @@ const VLP16_ELEVATION: [f64; 16] = [
 /// Time between two of the VLP-16's firings, seconds (its manual: 2.304 µs).
 const VLP16_FIRING: f32 = 2.304e-6;
 
+/// Blensor's reflectivity limit: 0.1 from 50 m on, growing by `slope` a metre.
+const fn blensor_limit(slope: f32) -> ReflectivityLimit {
+    ReflectivityLimit {
+        distance: 50.0,
+        limit: 0.1,
+        slope,
+    }
+}
+
 impl Lidar {
     /// The preset called `name` (see [`LIDAR_PRESETS`]).
     ///
@@ -210,11 +219,7 @@ impl Lidar {
             rotation: 10.0,
             max_range: 120.0,
             noise: gaussian(0.01),
-            reflectivity: ReflectivityLimit {
-                distance: 50.0,
-                limit: 0.1,
-                slope: 0.01,
-            },
+            reflectivity: blensor_limit(0.01),
             beam: Beam::default(),
         };
         Ok(match name {
@@ -241,11 +246,7 @@ impl Lidar {
                 rotation: 12.5,
                 max_range: 90.0,
                 noise: gaussian(0.03),
-                reflectivity: ReflectivityLimit {
-                    distance: 50.0,
-                    limit: 0.1,
-                    slope: 0.005_333_333,
-                },
+                reflectivity: blensor_limit(0.005_333_333),
                 beam: Beam::default(),
             },
             // Blensor's `generic_lidar.py`, preconfigured as a Hokuyo UTM-30LX
@@ -258,11 +259,7 @@ impl Lidar {
                 rotation: 40.0,
                 max_range: 30.0,
                 noise: gaussian(0.03),
-                reflectivity: ReflectivityLimit {
-                    distance: 50.0,
-                    limit: 0.1,
-                    slope: 0.005_333_333,
-                },
+                reflectivity: blensor_limit(0.005_333_333),
                 beam: Beam::default(),
             },
             _ => {

@@ -112,63 +112,62 @@ pub fn scan_lidar(
     let lasers = lidar.lasers.len();
     let returns = (0..lidar.columns())
         .into_par_iter()
-        .map_init(Vec::new, |samples, column| {
-            let mut out = Vec::new();
-            for laser in 0..lasers {
-                let local = lidar.direction(column, laser);
-                let time = lidar.time(column, laser);
-                let at = motion.pose(pose, time);
-                let dir = at.transform_vector3(local).normalize();
-                samples.clear();
-                for (ray, share) in lidar.beam.footprint(dir) {
-                    if let Some((hit, distance)) =
-                        cast_off_mirrors(world, at.translation.into(), ray, lidar.max_range)
-                    {
-                        samples.push(Sample {
+        .map_init(
+            || (Vec::<Sample>::new(), Vec::<Echo>::new()),
+            |(samples, echoes), column| {
+                let mut out = Vec::new();
+                for laser in 0..lasers {
+                    let local = lidar.direction(column, laser);
+                    let time = lidar.time(column, laser);
+                    let at = motion.pose(pose, time);
+                    let dir = at.transform_vector3(local).normalize();
+                    samples.clear();
+                    for (ray, share) in lidar.beam.footprint(dir) {
+                        if let Some((hit, distance)) =
+                            cast_off_mirrors(world, at.translation.into(), ray, lidar.max_range)
+                        {
+                            samples.push(Sample {
+                                distance,
+                                share,
+                                hit,
+                            });
+                        }
+                    }
+                    lidar.beam.echoes(samples, dir, echoes);
+                    echoes.retain(|e| lidar.reflectivity.returns(e.reflectivity, e.distance));
+                    let ray = (column * lasers + laser) as u32;
+                    let rng = PixelRng::new(seed, u64::from(ray));
+                    for (k, echo) in echoes.iter().enumerate() {
+                        let distance = echo.distance;
+                        let noise = lidar.noise.draw(distance, rng, k as u64);
+                        let measured = distance + lidar.lasers[laser].bias + noise;
+                        let hit = &echo.hit;
+                        out.push(LidarReturn {
+                            time,
+                            yaw: lidar.yaw(column).rem_euclid(360.0),
+                            laser: laser as u16,
+                            ray,
+                            echo: k as u8 + 1,
+                            echoes: echoes.len() as u8,
                             distance,
-                            share,
-                            hit,
+                            measured,
+                            point: local * distance,
+                            noisy: local * measured,
+                            normal: at.matrix3.transpose() * hit.normal,
+                            class: hit.class,
+                            instance: hit.instance,
+                            rgb: hit
+                                .material
+                                .colour
+                                .map(|c| (c.clamp(0.0, 1.0) * 255.0) as u8),
+                            reflectivity: echo.reflectivity,
+                            intensity: lidar.beam.intensity(echo),
                         });
                     }
                 }
-                let echoes: Vec<Echo> = lidar
-                    .beam
-                    .echoes(samples, dir)
-                    .into_iter()
-                    .filter(|e| lidar.reflectivity.returns(e.reflectivity, e.distance))
-                    .collect();
-                let ray = (column * lasers + laser) as u32;
-                let rng = PixelRng::new(seed, u64::from(ray));
-                for (k, echo) in echoes.iter().enumerate() {
-                    let distance = echo.distance;
-                    let noise = lidar.noise.draw(distance, rng, k as u64);
-                    let measured = distance + lidar.lasers[laser].bias + noise;
-                    let hit = &echo.hit;
-                    out.push(LidarReturn {
-                        time,
-                        yaw: lidar.yaw(column).rem_euclid(360.0),
-                        laser: laser as u16,
-                        ray,
-                        echo: k as u8 + 1,
-                        echoes: echoes.len() as u8,
-                        distance,
-                        measured,
-                        point: local * distance,
-                        noisy: local * measured,
-                        normal: at.matrix3.transpose() * hit.normal,
-                        class: hit.class,
-                        instance: hit.instance,
-                        rgb: hit
-                            .material
-                            .colour
-                            .map(|c| (c.clamp(0.0, 1.0) * 255.0) as u8),
-                        reflectivity: echo.reflectivity,
-                        intensity: lidar.beam.intensity(echo),
-                    });
-                }
-            }
-            out
-        })
+                out
+            },
+        )
         .flatten_iter()
         .collect();
     LidarScan {
