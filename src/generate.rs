@@ -109,15 +109,23 @@ impl GenerateCmd {
         .map_err(scene_error)?;
         let jobs = self.jobs.unwrap_or_else(rayon::current_num_threads);
         let sensor = &dataset.sensor().intrinsics;
+        let (what, lower) = match dataset.lidar() {
+            Some(lidar) => (
+                format!("a {} of {} rays", lidar.name, lidar.rays()),
+                "lower --jobs, -n or the modules of [cell.hall]",
+            ),
+            None => (
+                format!("a {}x{} sensor", sensor.width, sensor.height),
+                "lower --jobs, -n or the sensor's resolution (sensor.sampling)",
+            ),
+        };
         memory::ensure_fits(
             dataset.memory_needed(jobs),
             &format!(
-                "this dataset ({} samples in this run, {jobs} jobs, a {}x{} sensor)",
+                "this dataset ({} samples in this run, {jobs} jobs, {what})",
                 dataset.shard_samples(),
-                sensor.width,
-                sensor.height
             ),
-            "lower --jobs, -n or the sensor's resolution (sensor.sampling)",
+            lower,
         )?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)

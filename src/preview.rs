@@ -119,7 +119,13 @@ fn preview(json: &Path, width: u32) -> CliResult<Image> {
     let bad = |why: String| CliError::Usage(format!("sample {}: {why}", json.display()));
     let text = sensor::files::read_text(json, sensor::files::CONFIG_LIMIT)
         .map_err(|e| bad(e.to_string()))?;
-    let doc: SampleJson = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    let doc: SampleJson = serde_json::from_str(&text).map_err(|e| {
+        if serde_json::from_str::<scene::pass::PassJson>(&text).is_ok() {
+            bad("a LiDAR pass of the hall; preview draws a camera's samples".into())
+        } else {
+            bad(e.to_string())
+        }
+    })?;
     let view = doc.views.first().ok_or_else(|| bad("no views".into()))?;
     let root = json
         .parent()

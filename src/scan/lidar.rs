@@ -2,9 +2,7 @@
 //! yaw 0 towards the target, its axis along `--up`.
 
 use glam::Vec3;
-use sensor::formats::{
-    CloudFormat, write_blensor_numpy, write_blensor_pcd, write_las, write_lidar_npz,
-};
+use sensor::formats::LidarFormat;
 use sensor::lidar::{Echoes, LidarFrame, Motion};
 use sensor::{LIDAR_PRESETS, Lidar, LidarScan, World, head_pose, scan_lidar};
 
@@ -47,17 +45,6 @@ pub(super) fn named(name: &str) -> CliResult<Option<Lidar>> {
         .validate()
         .map_err(|e| CliError::Usage(format!("--sensor {shown}: {e}")))?;
     Ok(Some(lidar))
-}
-
-/// A LiDAR's files: Blensor's `.numpy` table and PCD pair, our NPZ with rings and times, and
-/// the cloud formats of the cameras (the measured points).
-#[derive(Clone, Copy)]
-enum LidarFormat {
-    BlensorNumpy,
-    BlensorPcd,
-    Npz,
-    Las,
-    Cloud(CloudFormat),
 }
 
 impl ScanCmd {
@@ -109,14 +96,7 @@ impl ScanCmd {
             velocity: Vec3::from_slice(&velocity),
             turn: self.turn,
         };
-        // the cameras' formats but their NPZ, which the LiDAR's own replaces
-        let cloud = CloudFormat::ALL.map(|c| (c.name(), LidarFormat::Cloud(c)));
-        let mut options = vec![
-            ("blensor-numpy", LidarFormat::BlensorNumpy),
-            ("blensor-pcd", LidarFormat::BlensorPcd),
-        ];
-        options.extend(cloud.into_iter().filter(|(name, _)| *name != "npz"));
-        options.extend([("npz", LidarFormat::Npz), ("las", LidarFormat::Las)]);
+        let options = LidarFormat::ALL.map(|f| (f.name(), f));
         let formats = self
             .format
             .iter()
@@ -160,7 +140,8 @@ impl ScanCmd {
         Ok(())
     }
 
-    /// Writes the files of `format`, points in `frame` scaled by `scale`.
+    /// Writes the files of `format` (`scan.*`, a camera's cloud format `cloud.*`), points in
+    /// `frame` scaled by `scale`.
     fn write(
         &self,
         format: LidarFormat,
@@ -168,24 +149,14 @@ impl ScanCmd {
         frame: LidarFrame,
         scale: f32,
     ) -> CliResult<()> {
-        match format {
-            LidarFormat::BlensorNumpy => self.save("scan.numpy", &|w| {
-                write_blensor_numpy(w, scan, frame, scale)
-            }),
-            LidarFormat::BlensorPcd => {
-                self.save("scan.pcd", &|w| {
-                    write_blensor_pcd(w, scan, frame, scale, false)
-                })?;
-                self.save("scan_noisy.pcd", &|w| {
-                    write_blensor_pcd(w, scan, frame, scale, true)
-                })
-            }
-            LidarFormat::Npz => self.save("scan.npz", &|w| write_lidar_npz(w, scan, frame, scale)),
-            LidarFormat::Las => self.save("scan.las", &|w| write_las(w, scan, frame, scale)),
-            LidarFormat::Cloud(f) => {
-                let cloud = scan.cloud(frame, scale);
-                self.save(&f.file_name("cloud"), &|w| f.write(w, &cloud))
-            }
+        let stem = if format.cloud().is_some() {
+            "cloud"
+        } else {
+            "scan"
+        };
+        for (k, name) in format.file_names(stem).iter().enumerate() {
+            self.save(name, &|w| format.write(k, w, scan, frame, scale))?;
         }
+        Ok(())
     }
 }

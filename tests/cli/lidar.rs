@@ -297,3 +297,47 @@ fn a_moving_lidar_fires_each_laser_from_where_the_head_is() {
     assert_eq!(d["motion"]["turn"], -20.0);
     assert_ne!(still, driving);
 }
+
+/// `generate --config hall` into `out` with `args`, which succeeds: VLP-16 passes, two a hall,
+/// LAS and NPZ.
+fn generate_hall(out: &Path, args: &[&str]) {
+    let done = motorfactory()
+        .args(["generate", "--config", "hall", "--quiet", "--out"])
+        .arg(out)
+        .args([
+            "--set",
+            "lidar.preset=velodyne-vlp16",
+            "--set",
+            "lidar.revolutions=2",
+        ])
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(done.status.success(), "{}", stderr(&done));
+}
+
+#[test]
+fn a_hall_dataset_is_the_same_for_any_jobs_shards_and_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let (one, two, sharded) = (
+        dir.path().join("1"),
+        dir.path().join("2"),
+        dir.path().join("s"),
+    );
+    generate_hall(&one, &["-n", "3", "--jobs", "1"]);
+    generate_hall(&one, &["-n", "5", "--jobs", "1", "--resume"]);
+    generate_hall(&two, &["-n", "5", "--jobs", "2"]);
+    for part in ["0/2", "1/2"] {
+        generate_hall(&sharded, &["-n", "5", "--shard", part]);
+    }
+    kit::assert_same_dataset(&one, &two);
+    kit::assert_same_dataset(&one, &sharded);
+    let files = files_below(&one);
+    let las: Vec<&String> = files.keys().filter(|k| k.ends_with(".las")).collect();
+    assert_eq!(las.len(), 5, "{:?}", files.keys());
+    let card = String::from_utf8(files["dataset-card.md"].clone()).unwrap();
+    assert!(
+        card.contains("the LiDAR `velodyne-vlp16`, 16 lasers"),
+        "{card}"
+    );
+}

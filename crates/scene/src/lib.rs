@@ -43,6 +43,7 @@ pub mod coverage;
 pub mod dataset;
 mod error;
 mod fixture;
+pub mod pass;
 pub mod preview;
 pub mod record;
 mod rendered;

@@ -12,7 +12,7 @@ use sensor::{Frame, Material, SensorSpec, Units};
 use serde::{Deserialize, Serialize};
 
 use crate::augment::{Level, Split};
-use crate::cell::Kind;
+use crate::cell::{Kind, Object};
 use crate::coco::CocoView;
 use crate::config::{Clamping, Variant};
 
@@ -105,6 +105,21 @@ pub struct WearJson {
     pub grain: Grain,
     /// Rust kept to the screws' seats.
     pub seats_only: bool,
+}
+
+impl ObjectJson {
+    /// What a JSON says of object `o` under `scheme`.
+    pub fn of(o: &Object, scheme: Scheme) -> ObjectJson {
+        ObjectJson {
+            name: o.name.clone(),
+            instance: o.instance_in(scheme),
+            class: o.class(scheme),
+            part: o.part,
+            kind: o.kind,
+            material: o.material,
+            wear: o.wear.as_ref().map(WearJson::of),
+        }
+    }
 }
 
 impl WearJson {

@@ -12,7 +12,7 @@ use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use sensor::render::Lighting;
 use sensor::{
-    ColourCapture, Pixel, PointCloud, Region, Scan, SensorSpec, Target, World, scan_reusing,
+    ColourCapture, Lidar, Pixel, PointCloud, Region, Scan, SensorSpec, Target, World, scan_reusing,
 };
 
 use crate::augment::{Level, Place, Split, place};
@@ -24,8 +24,8 @@ use crate::config::{
     Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, SceneKind, Variant,
 };
 use crate::coverage::{Surface, overlap};
-use crate::error::Result;
-use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson, WearJson};
+use crate::error::{Error, Result};
+use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson};
 use crate::rendered;
 use crate::rig::camera_poses;
 use crate::seed::Seed;
@@ -48,6 +48,8 @@ pub struct Recipe {
     spaces: Vec<ParamSpace>,
     /// The sensor, its sampling applied.
     sensor: SensorSpec,
+    /// The hall's LiDAR (`cell.scene = "hall"`).
+    lidar: Option<Lidar>,
 }
 
 impl Recipe {
@@ -56,16 +58,20 @@ impl Recipe {
     /// # Errors
     ///
     /// The errors of [`Config::check`](crate::Config::check), and
-    /// [`Error::Config`](crate::Error::Config) for a sensor that does not resolve.
+    /// [`Error::Config`] for a sensor that does not resolve.
     pub fn new(config: Config, sweep: Vec<(String, toml::Value)>) -> Result<Recipe> {
         config.check()?;
         let spaces = config.param_spaces()?;
         let sensor = config.sensor.resolve()?;
+        let lidar = (config.cell.scene == SceneKind::Hall)
+            .then(|| config.lidar.resolve())
+            .transpose()?;
         Ok(Recipe {
             config,
             sweep,
             spaces,
             sensor,
+            lidar,
         })
     }
 
@@ -85,7 +91,7 @@ impl Recipe {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample
+    /// [`Error::Config`] when the motor's parameters drawn for this sample
     /// do not form a valid motor.
     pub fn motor(&self, index: u64) -> Result<(u64, Motor)> {
         let seed = derive_seed(self.config.seed, index);
@@ -102,7 +108,7 @@ impl Recipe {
     ///
     /// # Errors
     ///
-    /// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn do not form a valid motor.
+    /// [`Error::Config`] when the motor's parameters drawn do not form a valid motor.
     pub fn extra_motor(&self, index: u64, k: usize) -> Result<Motor> {
         let seed = derive_seed(self.config.seed, index);
         let slot = (self.place(index).slot as usize + k) % self.spaces.len();
@@ -113,6 +119,22 @@ impl Recipe {
     /// The sensor, its sampling applied.
     pub fn sensor(&self) -> &SensorSpec {
         &self.sensor
+    }
+
+    /// The hall's LiDAR, if the scene is the hall.
+    pub fn hall_lidar(&self) -> Option<&Lidar> {
+        self.lidar.as_ref()
+    }
+
+    /// The hall's LiDAR.
+    ///
+    /// # Panics
+    ///
+    /// Unless the scene is the hall.
+    pub(crate) fn lidar(&self) -> &Lidar {
+        self.lidar
+            .as_ref()
+            .expect("the hall's recipe has its LiDAR")
     }
 
     /// `cloud` with the rgb `output.colour` asks for: the camera's, or the class colours of the
@@ -227,7 +249,7 @@ fn crop_box(c: &CropConfig, centre: Vec3, rng: &mut impl Rng) -> Aabb {
 ///
 /// # Errors
 ///
-/// [`Error::Config`](crate::Error::Config) when the motor's parameters drawn for this sample do not
+/// [`Error::Config`] when the motor's parameters drawn for this sample do not
 /// form a valid motor.
 pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
     let config = &recipe.config;
@@ -248,6 +270,13 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         SceneKind::TransferUnit => transfer_unit(&motor, &more, &config.cell, rng)?,
         SceneKind::Handling => handling(&motor, &more, &config.cell, rng)?,
         SceneKind::Armature => bench(&motor, &config.cell, rng),
+        SceneKind::Hall => {
+            return Err(Error::Config(
+                "cell.scene = \"hall\" is scanned by the LiDAR, not a camera: motorfactory \
+                 generate writes its passes"
+                    .into(),
+            ));
+        }
     };
     let reclamped = config.cell.reclamp.then(|| {
         let other = Clamping::ALL.into_iter().find(|&c| c != vary.clamping);
@@ -543,15 +572,7 @@ impl Sample {
             .cell
             .objects
             .iter()
-            .map(|o| ObjectJson {
-                name: o.name.clone(),
-                instance: o.instance_in(out.scheme),
-                class: o.class(out.scheme),
-                part: o.part,
-                kind: o.kind,
-                material: o.material,
-                wear: o.wear.as_ref().map(WearJson::of),
-            })
+            .map(|o| ObjectJson::of(o, out.scheme))
             .collect();
         SampleJson {
             index: self.index,

@@ -31,6 +31,8 @@ pub(crate) enum Seed {
     Extra(u64),
     /// The camera the sample is taken with: its calibration error (`sensor.cameras`).
     Calibration,
+    /// How the hall's robot drives: its speed, start and offset.
+    Drive,
 }
 
 impl Seed {
@@ -47,6 +49,7 @@ impl Seed {
             Seed::Reclamp => 7,
             Seed::Lighting => 8,
             Seed::Calibration => 9,
+            Seed::Drive => 10,
             Seed::Scan(k) => 100 + k,
             Seed::Jitter(k) => 200 + k,
             Seed::Render(k) => 300 + k,

@@ -2,9 +2,11 @@
 //! coordinates (z up): the disassembly station's work cell (`station`: a table, the clamp
 //! fixture and the motor in it, lying cover up or standing, with optional mask panels; table top
 //! z = 0), carriers on a roller conveyor's transfer unit (`transfer`), motors and the parts
-//! taken off them on a table (`handling`) and an armature on its own (`bench`).
+//! taken off them on a table (`handling`), an armature on its own (`bench`) and the hall a
+//! mobile robot's LiDAR scans (`hall`).
 
 mod bench;
+mod hall;
 mod handling;
 mod place;
 mod station;
@@ -25,6 +27,7 @@ use serde::{Deserialize, Serialize};
 use crate::config::{Clamping, TableConfig, WearConfig, WearMask};
 
 pub use bench::bench;
+pub use hall::{AISLE, SLOT, hall, slots_per_side};
 pub use handling::handling;
 pub use station::compose;
 pub(crate) use station::turned_with_motor;

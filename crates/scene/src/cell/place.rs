@@ -109,6 +109,27 @@ impl Objects {
         }
     }
 
+    /// Adds every object of `cell` moved by `pose`, named `{prefix}{name}`, its instance ids
+    /// (and its whole motors') after this scene's.
+    pub(super) fn merge(&mut self, cell: Cell, pose: &Affine3A, prefix: &str) {
+        let offset = self.next;
+        for mut o in cell.objects {
+            o.name = format!("{prefix}{}", o.name);
+            o.mesh = o.mesh.transformed(pose);
+            o.pose = *pose * o.pose;
+            if let Some(w) = &mut o.wear {
+                w.texture *= pose.inverse();
+            }
+            o.instance += offset;
+            self.next = self.next.max(o.instance);
+            if let Kind::Assembled { motor } = &mut o.kind {
+                *motor += offset;
+                self.next = self.next.max(*motor);
+            }
+            self.list.push(o);
+        }
+    }
+
     /// The highest top of the objects but the first (the ground) whose boxes meet a footprint
     /// of `size` centred at `at`; 0 where none does.
     pub(super) fn top(&self, at: Vec3, size: Vec3) -> f32 {

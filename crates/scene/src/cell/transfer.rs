@@ -18,7 +18,7 @@ use crate::config::{CellConfig, TransferConfig};
 use crate::error::Result;
 
 /// A carrier's outer size, m (the KLT 4147's; a tray has its footprint).
-const CARRIER: Vec3 = Vec3::new(0.4, 0.3, 0.147);
+pub(super) const CARRIER: Vec3 = Vec3::new(0.4, 0.3, 0.147);
 /// A carrier's wall and floor, m.
 const WALL: f32 = 0.004;
 /// A tray's plate and rim, m.
@@ -31,17 +31,17 @@ const WIDTH: f32 = 0.5;
 const ROLLER: f32 = 0.025;
 const ROLLER_PITCH: f32 = 0.075;
 /// Height of the conveyor's top above the floor, m.
-const HEIGHT: f32 = 0.75;
+pub(super) const HEIGHT: f32 = 0.75;
 
 /// Blue polypropylene of small load carriers.
-const KLT_BLUE: Material = Material {
+pub(super) const KLT_BLUE: Material = Material {
     colour: [0.03, 0.12, 0.4],
     reflectivity: 0.25,
     roughness: 0.45,
     ..MATTE_GREY
 };
 /// Grey polypropylene.
-const KLT_GREY: Material = Material {
+pub(super) const KLT_GREY: Material = Material {
     colour: [0.35, 0.36, 0.37],
     reflectivity: 0.4,
     roughness: 0.5,
@@ -56,7 +56,7 @@ const PROFILE: Material = Material {
 };
 
 /// An open box: a floor and four walls, outer `size`, standing on z = 0.
-fn open_box(size: Vec3) -> Mesh {
+pub(super) fn open_box(size: Vec3) -> Mesh {
     let (x, y, z) = (size.x / 2.0, size.y / 2.0, size.z);
     let w = WALL;
     let mut mesh = cuboid(Vec3::new(-x, -y, 0.0), Vec3::new(x, y, w));

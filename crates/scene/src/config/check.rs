@@ -107,6 +107,8 @@ impl Config {
         c.transfer.check()?;
         c.handling.check()?;
         c.armature.check()?;
+        c.hall.check()?;
+        self.check_hall()?;
         t.roughness.check("cell.table.roughness", 0.0, 1.0)?;
         self.check_camera()?;
         let sensor = self.sensor.resolve()?;
@@ -159,7 +161,8 @@ impl Config {
                 "shares that add up to 1",
             ));
         }
-        if self.output.formats.is_empty() && !self.output.images.any() {
+        let hall = self.cell.scene == super::SceneKind::Hall;
+        if self.output.formats.is_empty() && !self.output.images.any() && !hall {
             return Err(Error::invalid(
                 "output.formats",
                 "[]",

@@ -3,6 +3,7 @@
 //! overrides), its checks (`check`) and parameter sweeps (`sweep`).
 
 mod check;
+mod lidar;
 mod output;
 mod render;
 mod scenes;
@@ -17,9 +18,10 @@ use rand::{Rng, RngExt};
 use serde::{Deserialize, Serialize};
 
 pub use self::sensor::{SensorConfig, read_sensor};
+pub use lidar::LidarConfig;
 pub use output::{Colouring, ImageFormat, ImageKind, Images, Layout, MAX_VIEWS, OutputConfig};
 pub use render::{LightingConfig, RenderConfig};
-pub use scenes::{ArmatureConfig, HandlingConfig, SceneKind, TransferConfig};
+pub use scenes::{ArmatureConfig, HallConfig, HandlingConfig, SceneKind, TransferConfig};
 pub use sweep::{Combinations, MAX_COMBINATIONS, Sweep};
 pub use table::{
     BUILTIN, builtin_table, default_table, named_table, overlay, parse_value, set_key,
@@ -289,7 +291,7 @@ impl Clamping {
 #[serde(deny_unknown_fields)]
 pub struct CellConfig {
     /// What the camera looks at: the station, the transfer unit, the handling table or the
-    /// armature.
+    /// armature; or the hall, which the LiDAR scans.
     pub scene: SceneKind,
     /// Largest rotation of the motor about world x (its axis), y and z, degrees (Euler XYZ,
     /// about the motor's centre).
@@ -315,6 +317,8 @@ pub struct CellConfig {
     pub handling: HandlingConfig,
     /// The armature on its own (`scene = "armature"`).
     pub armature: ArmatureConfig,
+    /// The hall (`scene = "hall"`).
+    pub hall: HallConfig,
 }
 
 /// `[cell.table]`: the table's look, drawn per sample (domain randomisation).
@@ -431,6 +435,8 @@ pub struct Config {
     pub camera: CameraConfig,
     /// Sensor.
     pub sensor: SensorConfig,
+    /// The LiDAR of the hall's mobile robot (`cell.scene = "hall"`).
+    pub lidar: LidarConfig,
     /// Crop cuboid.
     pub crop: CropConfig,
     /// Augmentation levels and split.

@@ -19,6 +19,9 @@ pub enum SceneKind {
     Handling,
     /// A motor's armature on its own, resting on two V-blocks.
     Armature,
+    /// The hall: station modules, transfer units and racks beside an aisle, scanned by the
+    /// LiDAR (`[lidar]`) of a mobile robot driving along it.
+    Hall,
 }
 
 impl SceneKind {
@@ -29,6 +32,7 @@ impl SceneKind {
             SceneKind::TransferUnit => "transfer-unit",
             SceneKind::Handling => "handling",
             SceneKind::Armature => "armature",
+            SceneKind::Hall => "hall",
         }
     }
 }
@@ -80,6 +84,51 @@ pub struct ArmatureConfig {
     pub grease: Span,
     /// Share of the armature's steel rusted (shaft and laminations), drawn per sample.
     pub rust: Span,
+}
+
+/// `[cell.hall]`: the hall's size and what stands in it, drawn per hall.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HallConfig {
+    /// Length (along the aisle, x) and width (y) inside the walls, m.
+    pub size: [f32; 2],
+    /// `[min, max]` station modules: the station's table on legs, the fixture and a motor.
+    pub stations: [u32; 2],
+    /// `[min, max]` transfer units: roller conveyors, their carriers as `[cell.transfer]` draws.
+    pub transfer_units: [u32; 2],
+    /// `[min, max]` shelving racks with small load carriers.
+    pub racks: [u32; 2],
+}
+
+impl HallConfig {
+    pub(super) fn check(&self) -> Result<()> {
+        let [length, width] = self.size;
+        if !(8.0..=100.0).contains(&length) || !(6.0..=60.0).contains(&width) {
+            return Err(Error::invalid(
+                "cell.hall.size",
+                format!("{:?}", self.size),
+                "[length, width] with 8 <= length <= 100 and 6 <= width <= 60 m",
+            ));
+        }
+        let slots = 2 * crate::cell::slots_per_side(length) as u32;
+        for (key, count) in [
+            ("cell.hall.stations", self.stations),
+            ("cell.hall.transfer_units", self.transfer_units),
+            ("cell.hall.racks", self.racks),
+        ] {
+            check_count(key, count, slots)?;
+        }
+        let most = self.stations[1] + self.transfer_units[1] + self.racks[1];
+        if most > slots {
+            return Err(Error::Config(format!(
+                "cell.hall: up to {most} stations, transfer units and racks do not fit in a \
+                 hall {length} m long ({slots} places of {} m along the aisle); lower their \
+                 maxima or lengthen cell.hall.size",
+                crate::cell::SLOT
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// `[min, max]` with min <= max <= `most`, or the error naming `key`.

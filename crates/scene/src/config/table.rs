@@ -53,7 +53,7 @@ pub fn parse_value(text: &str) -> toml::Value {
 
 /// The configurations shipped in `configs/` and built into the library: `(name, TOML)`, the
 /// default first. Every other configuration is laid over the default with [`overlay`].
-pub const BUILTIN: [(&str, &str); 9] = [
+pub const BUILTIN: [(&str, &str); 10] = [
     ("default", crate::DEFAULT_CONFIG),
     ("synmotor", include_str!("../../configs/synmotor.toml")),
     ("zivid", include_str!("../../configs/zivid.toml")),
@@ -75,6 +75,7 @@ pub const BUILTIN: [(&str, &str); 9] = [
     ),
     ("handling", include_str!("../../configs/handling.toml")),
     ("armature", include_str!("../../configs/armature.toml")),
+    ("hall", include_str!("../../configs/hall.toml")),
 ];
 
 /// The default configuration as a TOML table, every key present: the base that configurations

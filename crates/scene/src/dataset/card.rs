@@ -27,17 +27,34 @@ pub(super) fn write(w: &mut dyn Write, dataset: &Dataset, rows: &[Row]) -> Resul
         c.seed
     )?;
     writeln!(w, "## Samples\n")?;
-    writeln!(
-        w,
-        "- Sensor: `{}`, {}×{} pixels; views a sample: {}.",
-        sensor.name, k.width, k.height, c.camera.views
-    )?;
+    let what = match dataset.lidar() {
+        Some(lidar) => {
+            writeln!(
+                w,
+                "- Sensor: the LiDAR `{}`, {} lasers × {} columns, on a robot driving along the \
+                 hall's aisle; a sample is one revolution, {} in a row a hall.",
+                lidar.name,
+                lidar.lasers.len(),
+                lidar.columns(),
+                c.lidar.revolutions
+            )?;
+            "Returns a pass"
+        }
+        None => {
+            writeln!(
+                w,
+                "- Sensor: `{}`, {}×{} pixels; views a sample: {}.",
+                sensor.name, k.width, k.height, c.camera.views
+            )?;
+            "Points a sample (cropped clouds, every view)"
+        }
+    };
     let mut points: Vec<usize> = rows.iter().map(|r| r.points.iter().sum()).collect();
     points.sort_unstable();
     if let (Some(lo), Some(hi)) = (points.first(), points.last()) {
         writeln!(
             w,
-            "- Points a sample (cropped clouds, every view): median {}, {lo} to {hi}.",
+            "- {what}: median {}, {lo} to {hi}.",
             points[points.len() / 2]
         )?;
     }

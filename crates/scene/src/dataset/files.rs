@@ -152,13 +152,15 @@ impl ViewFile {
 /// Every folder a run writes files to besides the dataset folder, each before its parent: those
 /// a sample's files may go to, in either layout, the YOLO folder's, the gathered annotations',
 /// and the BOP folder's above its scenes.
-pub(crate) const SAMPLE_FOLDERS: [&str; 20] = [
+pub(crate) const SAMPLE_FOLDERS: [&str; 22] = [
     "train",
     "validation",
     "ply",
     "pcd",
     "npy",
     "npz",
+    "las",
+    "numpy",
     "scene",
     "images",
     "json",

@@ -14,6 +14,8 @@ mod card;
 mod files;
 mod folder;
 mod gather;
+mod passes;
+mod rows;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -21,80 +23,19 @@ use std::sync::{Arc, Mutex};
 
 use motorgen::Scheme;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::augment::Split;
 use crate::claim::{Claim, plain_dir};
-use crate::config::{Combinations, Config, Layout, set_key};
+use crate::config::{Combinations, Config, Layout, SceneKind, set_key};
 use crate::error::{Error, Result};
+use crate::pass::{Hall, Pass, make_pass};
 use crate::sample::{Recipe, Sample, make};
 
 pub(crate) use files::SAMPLE_FOLDERS;
 pub use files::sample_json;
 pub(crate) use folder::{files_in, save};
 use folder::{make_out, read_all_rows, unwritable, write_json, write_rows};
-
-/// Which part of the samples a run makes: those with `index % count == part`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    /// This shard, from 0.
-    pub part: u64,
-    /// Number of shards.
-    pub count: u64,
-}
-
-impl Shard {
-    /// The whole dataset.
-    pub const ALL: Shard = Shard { part: 0, count: 1 };
-
-    /// Parses `I/N`.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::Config`] unless `text` is `I/N` with `0 <= I < N`.
-    pub fn parse(text: &str) -> Result<Shard> {
-        let bad = || Error::invalid("--shard", text, "I/N with 0 <= I < N, e.g. 0/4");
-        let (i, n) = text.split_once('/').ok_or_else(bad)?;
-        let (part, count) = (
-            i.trim().parse().map_err(|_| bad())?,
-            n.trim().parse().map_err(|_| bad())?,
-        );
-        if part < count {
-            Ok(Shard { part, count })
-        } else {
-            Err(bad())
-        }
-    }
-
-    fn manifest_name(self) -> String {
-        if self.count == 1 {
-            "manifest.jsonl".into()
-        } else {
-            format!("manifest-{}-of-{}.jsonl", self.part, self.count)
-        }
-    }
-}
-
-/// One manifest row: a finished sample and its files (relative to the dataset folder).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Row {
-    /// Sample index.
-    pub index: u64,
-    /// train or validation.
-    pub split: String,
-    /// Augmentation level.
-    pub level: String,
-    /// Motor variant, or "motor".
-    pub variant: String,
-    /// Points of the cropped cloud per view.
-    pub points: Vec<usize>,
-    /// The sample's JSON.
-    pub json: String,
-    /// Every other file of the sample.
-    pub files: Vec<String>,
-    /// Points per class over all views, by class id.
-    pub class_counts: Vec<u64>,
-}
+pub use rows::{Row, Shard, Summary};
 
 /// A resolved dataset: its configuration and sweeps, size, shard and output folder.
 ///
@@ -128,23 +69,23 @@ pub struct Dataset {
     /// Output folder.
     pub out: PathBuf,
     resolved: String,
+    /// The halls of the LiDAR passes in flight (`cell.scene = "hall"`).
+    halls: passes::Halls,
 }
 
-/// What a run did.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Summary {
-    /// Samples made by this run.
-    pub made: u64,
-    /// Samples already in the manifest when it started.
-    pub skipped: u64,
-    /// Points written (cropped clouds, all views).
-    pub points: u64,
-    /// Points per class id.
-    pub class_counts: Vec<u64>,
-    /// Whether the run was stopped before its shard was done.
-    pub stopped: bool,
-    /// Samples of the shard, with their indices, whose crops hold no point (every view).
-    pub empty: Vec<u64>,
+/// A made sample: a camera's, or a LiDAR pass with its hall.
+enum Made {
+    Sample(Box<Sample>),
+    Pass(Box<Pass>, Arc<Hall>),
+}
+
+impl Made {
+    fn index(&self) -> u64 {
+        match self {
+            Made::Sample(s) => s.index,
+            Made::Pass(p, _) => p.index,
+        }
+    }
 }
 
 /// A prepared output folder: the run's claim on it, the samples of its shard already done, and
@@ -152,7 +93,7 @@ pub struct Summary {
 pub struct Prepared {
     claim: Claim,
     done: Vec<Row>,
-    first: Mutex<Option<(Arc<Recipe>, Sample)>>,
+    first: Mutex<Option<(Arc<Recipe>, Made)>>,
 }
 
 impl Prepared {
@@ -208,6 +149,7 @@ impl Dataset {
             shard,
             out: out.to_path_buf(),
             resolved,
+            halls: passes::Halls::default(),
         })
     }
 
@@ -226,7 +168,9 @@ impl Dataset {
 
     /// Memory a run with `jobs` worker threads needs at its peak, in bytes: per thread a
     /// sample's scans (each view's, when images or whole-scene clouds keep them) and its motor
-    /// and world (16 MB), and the manifest's rows (512 bytes a sample) kept to sort them.
+    /// and world (16 MB), or in the hall a pass's returns twice over (the scan and its files'
+    /// columns) and a hall kept ([`Dataset::hall_memory`], one more than the threads); and the
+    /// manifest's rows (512 bytes a sample) kept to sort them.
     pub fn memory_needed(&self, jobs: usize) -> u64 {
         let c = &self.base.config;
         let views = if c.output.images.any() || c.output.scene_cloud {
@@ -234,11 +178,38 @@ impl Dataset {
         } else {
             1
         };
-        let per_job = views * self.sensor().scan_memory() + (16 << 20);
+        let per_job = match self.base.hall_lidar() {
+            Some(lidar) => {
+                let echoes = if lidar.beam.echoes == sensor::lidar::Echoes::Dual {
+                    2
+                } else {
+                    1
+                };
+                let returns = lidar.rays() as u64 * echoes;
+                let bytes = returns * 2 * size_of::<sensor::lidar::LidarReturn>() as u64;
+                bytes + self.hall_memory() * (jobs as u64 + 1) / jobs.max(1) as u64
+            }
+            None => views * self.sensor().scan_memory() + (16 << 20),
+        };
         (jobs as u64)
             .saturating_mul(per_job)
             .saturating_add(self.shard_samples().saturating_mul(512))
             .saturating_add(32 << 20)
+    }
+
+    /// Memory a hall kept for its passes takes at most, in bytes: 16 MB and 2 MB a motor (its
+    /// meshes and their share of the ray-casting tree), as many motors as `[cell.hall]` and
+    /// `[cell.transfer]` allow.
+    pub fn hall_memory(&self) -> u64 {
+        let c = &self.base.config.cell;
+        let (h, t) = (&c.hall, &c.transfer);
+        let motors = h.stations[1] + h.transfer_units[1] * t.carriers[1] * t.motors[1];
+        (16 << 20) + u64::from(motors) * (2 << 20)
+    }
+
+    /// The hall's LiDAR (of the sweeps' first combination), if the samples are its passes.
+    pub fn lidar(&self) -> Option<&sensor::Lidar> {
+        self.base.hall_lidar()
     }
 
     /// The sensor of the dataset's samples (of the sweeps' first combination), its sampling applied.
@@ -302,7 +273,7 @@ impl Dataset {
         &self,
         claim: &Claim,
         resume: bool,
-    ) -> Result<(Vec<Row>, Option<(Arc<Recipe>, Sample)>)> {
+    ) -> Result<(Vec<Row>, Option<(Arc<Recipe>, Made)>)> {
         let out = &self.out;
         let unusable =
             |what: String| Error::Output(format!("output folder {}: {what}", out.display()));
@@ -374,7 +345,7 @@ impl Dataset {
 
     /// The first sample of this shard not in `done`, made to see that the configuration
     /// yields points at all.
-    fn first_sample(&self, done: &[Row]) -> Result<Option<(Arc<Recipe>, Sample)>> {
+    fn first_sample(&self, done: &[Row]) -> Result<Option<(Arc<Recipe>, Made)>> {
         let Shard { part, count } = self.shard;
         let have: std::collections::BTreeSet<u64> = done.iter().map(|r| r.index).collect();
         let Some(index) = (0..)
@@ -385,11 +356,27 @@ impl Dataset {
             return Ok(None);
         };
         let recipe = self.recipe(index)?;
-        let sample = make(&recipe, index)?;
-        if sample.views.iter().all(|v| v.cloud.is_empty()) {
-            return Err(Error::Config(why_empty(&recipe, &sample)));
+        let made = self.make(&recipe, index)?;
+        match &made {
+            Made::Sample(sample) if sample.views.iter().all(|v| v.cloud.is_empty()) => {
+                return Err(Error::Config(why_empty(&recipe, sample)));
+            }
+            Made::Pass(pass, _) if pass.scan.returns.is_empty() => {
+                return Err(crate::pass::why_empty(&recipe, pass));
+            }
+            _ => {}
         }
-        Ok(Some((recipe, sample)))
+        Ok(Some((recipe, made)))
+    }
+
+    /// Makes sample `index` of `recipe`: a camera's sample, or in the hall a LiDAR pass.
+    fn make(&self, recipe: &Recipe, index: u64) -> Result<Made> {
+        if recipe.config.cell.scene == SceneKind::Hall {
+            let hall = self.hall(recipe, index)?;
+            Ok(Made::Pass(Box::new(make_pass(recipe, index, &hall)), hall))
+        } else {
+            make(recipe, index).map(|s| Made::Sample(Box::new(s)))
+        }
     }
 
     /// The number of samples in this run's shard.
@@ -449,17 +436,25 @@ impl Dataset {
                 let made = first
                     .lock()
                     .expect("first sample lock")
-                    .take_if(|(_, s)| s.index == index);
-                let (recipe, sample) = match made {
+                    .take_if(|(_, s)| s.index() == index);
+                let (recipe, made) = match made {
                     Some(made) => made,
                     None => {
                         let recipe = self.recipe(index).map_err(Some)?;
-                        let sample = make(&recipe, index).map_err(Some)?;
-                        (recipe, sample)
+                        let made = self.make(&recipe, index).map_err(Some)?;
+                        (recipe, made)
                     }
                 };
-                let row = self.write(&recipe, &sample).map_err(Some)?;
-                sample.recycle();
+                let row = match made {
+                    Made::Sample(sample) => {
+                        let row = self.write(&recipe, &sample).map_err(Some)?;
+                        (*sample).recycle();
+                        row
+                    }
+                    Made::Pass(pass, hall) => {
+                        self.write_pass(&recipe, &pass, &hall).map_err(Some)?
+                    }
+                };
                 let line = serde_json::to_string(&row).expect("rows serialise") + "\n";
                 manifest
                     .lock()
@@ -529,10 +524,13 @@ fn combination(table: &toml::Table, combinations: &Combinations, c: u64) -> Resu
 /// Whether two resolved configurations make the same samples: equal but for `samples` (sample i
 /// does not depend on how many there are, so a dataset can be extended).
 fn same_dataset(a: &str, b: &str) -> bool {
+    // keys added to the configuration since a folder was made take their defaults there
     let parse = |t: &str| {
-        toml::from_str::<toml::Table>(t).ok().map(|mut t| {
-            t.remove("samples");
-            t
+        toml::from_str::<toml::Table>(t).ok().map(|t| {
+            let mut full = crate::config::default_table();
+            crate::config::overlay(&mut full, t);
+            full.remove("samples");
+            full
         })
     };
     parse(a).is_some_and(|a| Some(a) == parse(b))

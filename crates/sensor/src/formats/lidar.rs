@@ -4,10 +4,109 @@
 use std::io::{Cursor, Result, Write};
 
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
 use super::npy::{array, f32s, npz, rgbs, vec3s};
-use super::write_rows;
+use super::{CloudFormat, write_rows};
 use crate::lidar::{LidarFrame, LidarReturn, LidarScan};
+
+/// A LiDAR pass's file format: Blensor's, ours with rings and times, LAS, or a camera's cloud
+/// format of the measured points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LidarFormat {
+    /// Blensor's 16-column `.numpy` table ([`write_blensor_numpy`]).
+    BlensorNumpy,
+    /// Blensor's ideal and noisy ASCII PCD pair ([`write_blensor_pcd`]).
+    BlensorPcd,
+    /// NPZ with rings, times and echoes ([`write_lidar_npz`]).
+    Npz,
+    /// LAS 1.4, point format 7 ([`write_las`]).
+    Las,
+    /// Binary PLY of the measured points.
+    Ply,
+    /// Binary PCD of the measured points.
+    Pcd,
+    /// ASCII PCD of the measured points.
+    PcdAscii,
+    /// NPY `x y z r g b label` of the measured points.
+    Npy,
+}
+
+impl LidarFormat {
+    /// Every format.
+    pub const ALL: [LidarFormat; 8] = [
+        LidarFormat::BlensorNumpy,
+        LidarFormat::BlensorPcd,
+        LidarFormat::Npz,
+        LidarFormat::Las,
+        LidarFormat::Ply,
+        LidarFormat::Pcd,
+        LidarFormat::PcdAscii,
+        LidarFormat::Npy,
+    ];
+
+    /// The name used in configs and on the command line.
+    pub fn name(self) -> &'static str {
+        match self.cloud() {
+            Some(c) => c.name(),
+            None => match self {
+                LidarFormat::BlensorNumpy => "blensor-numpy",
+                LidarFormat::BlensorPcd => "blensor-pcd",
+                LidarFormat::Npz => "npz",
+                _ => "las",
+            },
+        }
+    }
+
+    /// The camera's cloud format it writes, if it is one.
+    pub fn cloud(self) -> Option<CloudFormat> {
+        match self {
+            LidarFormat::Ply => Some(CloudFormat::Ply),
+            LidarFormat::Pcd => Some(CloudFormat::Pcd),
+            LidarFormat::PcdAscii => Some(CloudFormat::PcdAscii),
+            LidarFormat::Npy => Some(CloudFormat::Npy),
+            _ => None,
+        }
+    }
+
+    /// The names of its files for a pass called `stem` (Blensor's PCD pair: two).
+    pub fn file_names(self, stem: &str) -> Vec<String> {
+        match self {
+            LidarFormat::BlensorNumpy => vec![format!("{stem}.numpy")],
+            LidarFormat::BlensorPcd => vec![format!("{stem}.pcd"), format!("{stem}_noisy.pcd")],
+            LidarFormat::Npz => vec![format!("{stem}.npz")],
+            LidarFormat::Las => vec![format!("{stem}.las")],
+            cloud => vec![cloud.cloud().expect("a cloud format").file_name(stem)],
+        }
+    }
+
+    /// Writes file `k` of [`LidarFormat::file_names`] of `scan`, points in `frame`, lengths
+    /// multiplied by `scale`.
+    ///
+    /// # Errors
+    ///
+    /// Any error of writing to `w`.
+    pub fn write(
+        self,
+        k: usize,
+        w: &mut dyn Write,
+        scan: &LidarScan,
+        frame: LidarFrame,
+        scale: f32,
+    ) -> Result<()> {
+        match self {
+            LidarFormat::BlensorNumpy => write_blensor_numpy(w, scan, frame, scale),
+            LidarFormat::BlensorPcd => write_blensor_pcd(w, scan, frame, scale, k == 1),
+            LidarFormat::Npz => write_lidar_npz(w, scan, frame, scale),
+            LidarFormat::Las => write_las(w, scan, frame, scale),
+            cloud => cloud
+                .cloud()
+                .expect("a cloud format")
+                .write(w, &scan.cloud(frame, scale)),
+        }
+    }
+}
 
 /// Appends Python's `%.{digits}e` of `v` to `out`: Rust's `{:e}`, its exponent signed and of
 /// at least two digits.

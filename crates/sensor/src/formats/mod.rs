@@ -18,7 +18,7 @@ pub use image::{
     DEPTH_PNG_METRES_PER_UNIT, write_depth_png, write_intensity_png, write_label_png,
     write_mask_png, write_normal_png, write_rgb_jpeg, write_rgb_png, write_wear_png,
 };
-pub use lidar::{write_blensor_numpy, write_blensor_pcd, write_las, write_lidar_npz};
+pub use lidar::{LidarFormat, write_blensor_numpy, write_blensor_pcd, write_las, write_lidar_npz};
 pub use npy::{write_depth_npy, write_npy_i32, write_npy_synmotor, write_npz};
 pub use pcd::write_pcd;
 pub use ply::{write_ply, write_surface_ply};
