@@ -205,6 +205,7 @@ fn a_generic_lidar_toml_scans_its_own_lasers() {
         elevation: -20.0,
         bias: 0.0,
         delay: 0.0,
+        offset: 0.0,
     });
     // a spreading beam's dual returns: where its footprint straddles the box's edges
     lidar.beam = sensor::lidar::Beam {

@@ -1,18 +1,36 @@
 """Reads a LiDAR scan's files back with independent readers (numpy.loadtxt for Blensor's
-.numpy table, Open3D for its PCD pair, laspy for the LAS, numpy for our NPZ) and checks them
-against each other, against scan.json's laser table and against the geometry of a ray.
+.numpy table, Open3D and PCL (pcl-tools' converter, which loads with pcl::io) for its PCD pair,
+laspy for the LAS, numpy for our NPZ) and checks them against each other, against scan.json's
+laser table and against the geometry of a ray.
 
 Usage: python3 tests/python/check_lidar.py SCAN_DIR
 (the scan written with --format blensor-numpy,blensor-pcd,npz,las in the head's frame)
 """
 import json
+import shutil
+import subprocess
 import sys
+import tempfile
 
 import laspy
 import numpy as np
 import open3d as o3d
 
 from checks import check, report
+
+
+def pcl_rows(path):
+    """The rows of a PCD file as PCL loads it (pcl::io, through pcl-tools' converter to ASCII);
+    an empty array where pcl-tools is not installed."""
+    if shutil.which("pcl_convert_pcd_ascii_binary") is None:
+        check("pcl-tools installed (pcl_convert_pcd_ascii_binary)", False)
+        return np.zeros((0, 0))
+    with tempfile.TemporaryDirectory() as tmp:
+        out = f"{tmp}/ascii.pcd"
+        subprocess.run(["pcl_convert_pcd_ascii_binary", path, out, "0"], check=True, capture_output=True)
+        lines = open(out).read().splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("DATA")) + 1
+    return np.loadtxt(lines[start:], ndmin=2)
 
 
 def main(scan_dir):
@@ -55,6 +73,13 @@ def main(scan_dir):
         check(f"{name}: label is the class", np.array_equal(label, npz["label"]))
         colours = cloud.point.colors.numpy()
         check(f"{name}: colours are the npz rgb", np.array_equal(colours, npz["rgb"]))
+        pcl = pcl_rows(f"{scan_dir}/{name}")
+        check(f"{name}: PCL reads every point, x y z rgb label", pcl.shape == (n, 5), pcl.shape)
+        if pcl.shape == (n, 5):
+            check(f"{name}: PCL's points are the table's", np.allclose(pcl[:, :3], points, atol=1e-5))
+            packed = (npz["rgb"].astype(np.int64) * [1 << 16, 1 << 8, 1]).sum(1)
+            check(f"{name}: PCL's rgb is the packed colour", np.array_equal(pcl[:, 3].astype(np.int64), packed))
+            check(f"{name}: PCL's label is the class", np.array_equal(pcl[:, 4], npz["label"]))
     las = laspy.read(f"{scan_dir}/scan.las")
     check("LAS 1.4, point format 7", (str(las.header.version), las.header.point_format.id) == ("1.4", 7),
           (las.header.version, las.header.point_format.id))

@@ -4,6 +4,7 @@
 use std::borrow::Cow;
 use std::path::PathBuf;
 
+use numpy::PyArray1;
 use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
@@ -59,6 +60,9 @@ pub(crate) struct Generator {
 
 impl Generator {
     fn sample<'py>(&self, py: Python<'py>, index: u64) -> PyResult<Bound<'py, PyDict>> {
+        if self.dataset.lidar().is_some() {
+            return self.pass(py, index);
+        }
         let made = work(py, || {
             let recipe = self.dataset.recipe(index)?;
             let sample = make(&recipe, index)?;
@@ -89,6 +93,35 @@ impl Generator {
         }
         // the first view's arrays at the top level too (the same arrays)
         let out = views.get_item(0)?.cast::<PyDict>()?.copy()?;
+        out.set_item("views", views)?;
+        out.set_item("json", json(py, &text)?)?;
+        Ok(out)
+    }
+
+    /// Pass `index` of the hall: its measured points as a sample's arrays (in `lidar.frame`),
+    /// with each return's `ring`, `time` (seconds from the pass's start) and `echo`, and `json`.
+    fn pass<'py>(&self, py: Python<'py>, index: u64) -> PyResult<Bound<'py, PyDict>> {
+        let made = work(py, || {
+            let recipe = self.dataset.recipe(index)?;
+            let (pass, doc) = self.dataset.pass(index)?;
+            let cloud = pass.scan.cloud(doc.frame, doc.units.scale());
+            let cloud = recipe.coloured(&cloud).into_owned();
+            let r = &pass.scan.returns;
+            let ring: Vec<u16> = r.iter().map(|x| x.laser).collect();
+            let time: Vec<f32> = r.iter().map(|x| x.time).collect();
+            let echo: Vec<u8> = r.iter().map(|x| x.echo).collect();
+            let text = serde_json::to_value(&doc)
+                .and_then(|v| serde_json::to_string(&v))
+                .expect("a pass's JSON serialises");
+            Ok::<_, scene::Error>((cloud, ring, time, echo, text))
+        });
+        let (cloud, ring, time, echo, text) = made.map_err(scene_error)?;
+        let out = cloud_dict(py, cloud)?;
+        out.set_item("ring", PyArray1::from_vec(py, ring))?;
+        out.set_item("time", PyArray1::from_vec(py, time))?;
+        out.set_item("echo", PyArray1::from_vec(py, echo))?;
+        let views = PyList::empty(py);
+        views.append(out.copy()?)?;
         out.set_item("views", views)?;
         out.set_item("json", json(py, &text)?)?;
         Ok(out)
@@ -148,7 +181,8 @@ impl Generator {
 
     /// Sample `index` (negative counts from the end): for its first view the arrays `xyz`,
     /// `normal`, `intensity`, `snr`, `rgb`, `label` and `instance` as its `.npz` holds them,
-    /// `views` with those of every view, and `json`, its JSON as a dict.
+    /// `views` with those of every view, and `json`, its JSON as a dict. A hall's pass adds
+    /// each return's `ring`, `time` and `echo`.
     fn __getitem__<'py>(&self, py: Python<'py>, index: i64) -> PyResult<Bound<'py, PyDict>> {
         let n = self.dataset.samples as i64;
         let i = if index < 0 { index + n } else { index };

@@ -110,3 +110,27 @@ def test_write_is_what_generate_writes_for_the_whole_and_for_shards(cli, tmp_pat
     with pytest.raises(ValueError, match=r"shard = \(2, 2\) is not allowed"):
         mf.write(tmp_path / "bad", shard=(2, 2))
     assert not (tmp_path / "bad").exists()
+
+
+def test_hall_passes_are_what_generate_writes(cli, tmp_path):
+    out = tmp_path / "hall"
+    keys = {"lidar.preset": "velodyne-vlp16", "lidar.revolutions": 2, "lidar.formats": ["npz"]}
+    subprocess.run(
+        [cli, "generate", "--config", "hall", "-n", "3", "--quiet", "--out", out,
+         "--set", "lidar.preset=velodyne-vlp16", "--set", "lidar.revolutions=2",
+         "--set", 'lidar.formats=["npz"]'],
+        check=True,
+    )
+    gen = mf.Generator("hall", overrides=keys)
+    rows = [json.loads(line) for line in (out / "manifest.jsonl").read_text().splitlines()]
+    for row in rows:
+        sample = gen[row["index"]]
+        assert sample["json"] == json.loads((out / row["json"]).read_text())
+        assert (sample["json"]["hall"], sample["json"]["revolution"]) == divmod(row["index"], 2)
+        written = np.load(out / row["files"][0])
+        np.testing.assert_array_equal(sample["xyz"], written["xyz_noisy"])
+        for name in ["ring", "time", "echo", "label", "instance", "rgb", "intensity"]:
+            assert sample[name].dtype == written[name].dtype, name
+            np.testing.assert_array_equal(sample[name], written[name], err_msg=name)
+        assert sample["ring"].max() == 15 and 0 <= sample["time"].min() < sample["time"].max() < 0.1
+    assert gen.classes[:3] == ["background", "motor", "carrier"]

@@ -10,7 +10,7 @@ use super::folder::{save, write_json};
 use super::{Dataset, Row};
 use crate::claim::plain_dir;
 use crate::error::{Error, Result};
-use crate::pass::{Hall, Pass, hall_of, make_hall};
+use crate::pass::{Hall, Pass, PassJson, hall_of, make_hall, make_pass};
 use crate::sample::Recipe;
 
 /// A hall being built or built, shared by the workers making its passes.
@@ -52,24 +52,41 @@ impl Dataset {
         .map_err(Error::Config)
     }
 
+    /// Pass `index` in memory (a LiDAR pass of the hall), with the JSON a run writes for it.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Config`] unless the samples are the hall's passes, or when a motor's
+    /// parameters drawn for its hall do not form a valid motor.
+    pub fn pass(&self, index: u64) -> Result<(Pass, PassJson)> {
+        let recipe = self.recipe(index)?;
+        if recipe.hall_lidar().is_none() {
+            return Err(Error::Config(
+                "the samples are a camera's, not the hall's LiDAR passes".into(),
+            ));
+        }
+        let hall = self.hall(&recipe, index)?;
+        let pass = make_pass(&recipe, index, &hall);
+        let names = pass_files(&recipe, &pass)
+            .into_iter()
+            .map(|f| f.0)
+            .collect();
+        let json = pass.json(&recipe, &hall, names);
+        Ok((pass, json))
+    }
+
     /// Writes a pass's files (`lidar.formats`, a camera's cloud format as `{stem}_cloud`) and
     /// its JSON, and returns its manifest row.
     pub(super) fn write_pass(&self, recipe: &Recipe, pass: &Pass, hall: &Hall) -> Result<Row> {
         let (out, lidar) = (&recipe.config.output, &recipe.config.lidar);
-        let stem = pass.stem();
         let scale = out.units.scale();
-        let mut files: Vec<(String, LidarFormat, usize)> = Vec::new();
-        for &format in &lidar.formats {
-            let named = match format.cloud() {
-                Some(_) => format!("{stem}_cloud"),
-                None => stem.clone(),
-            };
-            for (k, name) in format.file_names(&named).into_iter().enumerate() {
-                let rel = placed(out.layout, pass.split, folder(format), &name);
-                files.push((rel, format, k));
-            }
-        }
-        let json_rel = placed(out.layout, pass.split, "json", &format!("{stem}.json"));
+        let files = pass_files(recipe, pass);
+        let json_rel = placed(
+            out.layout,
+            pass.split,
+            "json",
+            &format!("{}.json", pass.stem()),
+        );
         for rel in files.iter().map(|f| &f.0).chain([&json_rel]) {
             if let Some((folder, _)) = rel.rsplit_once('/') {
                 plain_dir(&self.out.join(folder))?;
@@ -101,6 +118,24 @@ impl Dataset {
             class_counts,
         })
     }
+}
+
+/// A pass's files, each its path relative to the dataset folder, its format and which of the
+/// format's files it is.
+fn pass_files(recipe: &Recipe, pass: &Pass) -> Vec<(String, LidarFormat, usize)> {
+    let layout = recipe.config.output.layout;
+    let stem = pass.stem();
+    let mut files = Vec::new();
+    for &format in &recipe.config.lidar.formats {
+        let named = match format.cloud() {
+            Some(_) => format!("{stem}_cloud"),
+            None => stem.clone(),
+        };
+        for (k, name) in format.file_names(&named).into_iter().enumerate() {
+            files.push((placed(layout, pass.split, folder(format), &name), format, k));
+        }
+    }
+    files
 }
 
 /// The folder of a pass's file of `format` in the flat layout.

@@ -36,6 +36,10 @@ pub struct Laser {
     /// Firing delay after its column's start, seconds.
     #[serde(default)]
     pub delay: f32,
+    /// Height of the laser's origin above the head's centre, along its axis, metres (the
+    /// VLP-16's vertical corrections); distances are measured from it.
+    #[serde(default)]
+    pub offset: f32,
 }
 
 /// Blensor's reflectivity limit: beyond `distance`, a return needs a diffuse reflectivity above
@@ -199,15 +203,18 @@ impl Lidar {
         self.beam.validate()
     }
 
-    /// The yaw of `column`, degrees.
-    fn yaw(&self, column: usize) -> f32 {
-        self.start + column as f32 * self.resolution
+    /// The yaw of `laser` fired in `column`, degrees: the column's, and as far as the head
+    /// turns during the laser's firing delay (Velodyne's precise azimuth).
+    fn yaw(&self, column: usize, laser: usize) -> f32 {
+        self.start
+            + column as f32 * self.resolution
+            + 360.0 * self.rotation * self.lasers[laser].delay
     }
 
     /// The direction of `laser` fired in `column`, in the head's frame.
     pub fn direction(&self, column: usize, laser: usize) -> Vec3 {
         let (a, e) = (
-            self.yaw(column).to_radians(),
+            self.yaw(column, laser).to_radians(),
             self.lasers[laser].elevation.to_radians(),
         );
         Vec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin())

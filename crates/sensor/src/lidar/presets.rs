@@ -174,6 +174,12 @@ const VLP16_ELEVATION: [f64; 16] = [
     -15.0, 1.0, -13.0, 3.0, -11.0, 5.0, -9.0, 7.0, -7.0, 9.0, -5.0, 11.0, -3.0, 13.0, -1.0, 15.0,
 ];
 
+/// Vertical corrections of the VLP-16's lasers, in firing order, millimetres: each laser's
+/// origin above the head's centre (its manual's table of laser angles).
+const VLP16_OFFSET_MM: [f64; 16] = [
+    11.2, -0.7, 9.7, -2.2, 8.1, -3.7, 6.6, -5.1, 5.1, -6.6, 3.7, -8.1, 2.2, -9.7, 0.7, -11.2,
+];
+
 /// Time between two of the VLP-16's firings, seconds (its manual: 2.304 µs).
 const VLP16_FIRING: f32 = 2.304e-6;
 
@@ -201,6 +207,7 @@ impl Lidar {
                     elevation: elevation as f32,
                     bias: bias.get(i).map_or(0.0, |&b| b as f32),
                     delay: i as f32 * delay,
+                    offset: 0.0,
                 })
                 .collect()
         };
@@ -234,7 +241,13 @@ impl Lidar {
                 resolution: 0.2,
                 max_range: 100.0,
                 noise: gaussian(0.03),
-                ..velodyne(name, lasers(&VLP16_ELEVATION, &[], VLP16_FIRING))
+                ..velodyne(name, {
+                    let mut lasers = lasers(&VLP16_ELEVATION, &[], VLP16_FIRING);
+                    for (laser, mm) in lasers.iter_mut().zip(VLP16_OFFSET_MM) {
+                        laser.offset = (mm * 1e-3) as f32;
+                    }
+                    lasers
+                })
             },
             // Blensor's `ibeo.py`: four layers 0.8° apart, -50° to 35° in 0.25° steps, 12.5 Hz
             "ibeo-lux" => Lidar {

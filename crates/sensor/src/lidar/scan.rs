@@ -118,13 +118,15 @@ pub fn scan_lidar(
                 let mut out = Vec::new();
                 for laser in 0..lasers {
                     let local = lidar.direction(column, laser);
+                    let origin = Vec3::Z * lidar.lasers[laser].offset;
                     let time = lidar.time(column, laser);
                     let at = motion.pose(pose, time);
                     let dir = at.transform_vector3(local).normalize();
+                    let from = at.transform_point3(origin);
                     samples.clear();
                     for (ray, share) in lidar.beam.footprint(dir) {
                         if let Some((hit, distance)) =
-                            cast_off_mirrors(world, at.translation.into(), ray, lidar.max_range)
+                            cast_off_mirrors(world, from, ray, lidar.max_range)
                         {
                             samples.push(Sample {
                                 distance,
@@ -144,15 +146,15 @@ pub fn scan_lidar(
                         let hit = &echo.hit;
                         out.push(LidarReturn {
                             time,
-                            yaw: lidar.yaw(column).rem_euclid(360.0),
+                            yaw: lidar.yaw(column, laser).rem_euclid(360.0),
                             laser: laser as u16,
                             ray,
                             echo: k as u8 + 1,
                             echoes: echoes.len() as u8,
                             distance,
                             measured,
-                            point: local * distance,
-                            noisy: local * measured,
+                            point: origin + local * distance,
+                            noisy: origin + local * measured,
                             normal: at.matrix3.transpose() * hit.normal,
                             class: hit.class,
                             instance: hit.instance,

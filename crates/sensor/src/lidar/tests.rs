@@ -68,10 +68,12 @@ fn on_a_flat_floor_each_ring_lies_at_h_over_tan_elevation() {
         let lidar = ideal(name);
         let scan = scan_lidar(&world, &lidar, &above(h), &still(), 7);
         for r in &scan.returns {
-            let e = lidar.lasers[r.laser as usize].elevation.to_radians();
+            let laser = &lidar.lasers[r.laser as usize];
+            let e = laser.elevation.to_radians();
             assert!(e < 0.0, "{name}: laser {} looks up yet returned", r.laser);
             let radius = r.point.truncate().length();
-            let expected = h / (-e).tan();
+            // from the laser's origin, `offset` above the head's centre
+            let expected = (h + laser.offset) / (-e).tan();
             assert!(
                 (radius - expected).abs() <= 1e-4 * expected,
                 "{name}: ring {} at {radius} m, expected {expected} m",
@@ -92,6 +94,13 @@ fn on_a_flat_floor_each_ring_lies_at_h_over_tan_elevation() {
             })
             .count();
         assert_eq!(scan.returns.len(), down * lidar.columns(), "{name}");
+        // the VLP-16's lasers start from its manual's vertical corrections: −15° 11.2 mm up
+        let offsets: Vec<f32> = lidar.lasers.iter().map(|l| l.offset).collect();
+        if name == "velodyne-vlp16" {
+            assert_eq!((offsets[0], offsets[15]), (0.0112, -0.0112));
+        } else {
+            assert!(offsets.iter().all(|&o| o == 0.0), "{name}");
+        }
         assert_eq!(scan.rays, lidar.rays());
     }
 }
@@ -160,6 +169,7 @@ fn the_reflectivity_limit_drops_dark_far_surfaces_only() {
         elevation: 0.0,
         bias: 0.0,
         delay: 0.0,
+        offset: 0.0,
     }];
     for (distance, reflectivity, kept) in [
         (20.0, 0.05, true),
@@ -241,6 +251,16 @@ fn firing_times_follow_the_turn_and_the_firing_order() {
     // yaw 90° points along the head's y (left)
     let d = lidar.direction(450, 0);
     assert!(d.x.abs() < 1e-6 && d.y > 0.9 && (d.z - (-15f32).to_radians().sin()).abs() < 1e-6);
+    // the head turns on while a column fires: laser 15, 34.6 µs late, 0.124° further
+    let yaw = |d: Vec3| d.y.atan2(d.x).to_degrees();
+    let late = yaw(lidar.direction(450, 15)) - yaw(lidar.direction(450, 0));
+    assert!((late - 3600.0 * 15.0 * 2.304e-6).abs() < 1e-3, "{late}");
+    let scan = scan_lidar(&floor(), &lidar, &above(1.0), &still(), 0);
+    for r in scan.returns.iter().filter(|r| r.laser == 14) {
+        let at = r.point.y.atan2(r.point.x).to_degrees().rem_euclid(360.0);
+        let off = (at - r.yaw + 180.0).rem_euclid(360.0) - 180.0;
+        assert!(off.abs() < 1e-3, "{at} against {}", r.yaw);
+    }
 }
 
 #[test]
@@ -253,6 +273,7 @@ fn a_moving_heads_skew_is_its_speed_times_the_firing_time() {
             elevation: 0.0,
             bias: 0.0,
             delay: 0.0,
+            offset: 0.0,
         }],
         start: 0.0,
         end: 360.0,
@@ -303,7 +324,7 @@ fn a_mirror_returns_nothing_itself_and_what_its_reflection_meets_at_the_whole_pa
     // left: the return is the wall's, 13 m along the beam as it left the head (Blensor's)
     let mut lidar = ideal("velodyne-vlp16");
     lidar.lasers.truncate(1);
-    lidar.lasers[0].elevation = 0.0;
+    (lidar.lasers[0].elevation, lidar.lasers[0].offset) = (0.0, 0.0);
     (lidar.start, lidar.end, lidar.resolution) = (-2.0, 2.5, 0.5);
     let diagonal = Vec3::new(1.0, 1.0, 0.0).normalize();
     let mut mirror = square(Vec3::new(5.0, 0.0, 0.0), diagonal, Vec3::Z, 1.0, 0.04, 2);
