@@ -29,10 +29,14 @@ fn refused(keys: &[(&str, toml::Value)]) -> String {
 
 #[test]
 fn a_hall_stands_on_its_floor_inside_its_walls_and_keeps_its_aisle_clear() {
-    let recipe = recipe(&[]);
-    let [length, width] = recipe.config.cell.hall.size;
+    let narrowest = toml::Value::Array(vec![24.0.into(), 9.0.into()]);
     let (mut motors, mut carriers) = (0, 0);
-    for number in 0..6 {
+    for (keys, number) in (0..6).map(|n| (vec![], n)).chain([
+        (vec![("cell.hall.size", narrowest.clone())], 0),
+        (vec![("cell.hall.size", narrowest.clone())], 1),
+    ]) {
+        let recipe = recipe(&keys);
+        let [length, width] = recipe.config.cell.hall.size;
         let hall = make_hall(&recipe, number).unwrap();
         let objects = &hall.cell.objects;
         assert_eq!(objects[0].name, "floor");
@@ -75,8 +79,8 @@ fn a_hall_stands_on_its_floor_inside_its_walls_and_keeps_its_aisle_clear() {
         );
         motors += wholes.len();
     }
-    assert!(motors >= 6 * 2, "{motors} motors in 6 halls");
-    assert!(carriers >= 6, "{carriers} carriers in 6 halls");
+    assert!(motors >= 8 * 2, "{motors} motors in 8 halls");
+    assert!(carriers >= 8, "{carriers} carriers in 8 halls");
 }
 
 #[test]
@@ -155,9 +159,10 @@ fn a_hall_refuses_the_cameras_outputs_and_names_what_it_takes() {
     let many = toml::Value::Array(vec![6.into(), 7.into()]);
     let e = refused(&[("cell.hall.racks", many)]);
     assert!(e.contains("cell.hall") && e.contains("do not fit"), "{e}");
-    let e = refused(&[(
-        "cell.hall.size",
-        toml::Value::Array(vec![5.0.into(), 10.0.into()]),
-    )]);
-    assert!(e.contains("cell.hall.size"), "{e}");
+    // too short; too narrow for a transfer unit's distractors
+    for size in [[5.0, 10.0], [24.0, 8.0]] {
+        let size = toml::Value::Array(size.map(toml::Value::from).to_vec());
+        let e = refused(&[("cell.hall.size", size)]);
+        assert!(e.contains("cell.hall.size"), "{e}");
+    }
 }

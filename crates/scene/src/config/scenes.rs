@@ -103,11 +103,12 @@ pub struct HallConfig {
 impl HallConfig {
     pub(super) fn check(&self) -> Result<()> {
         let [length, width] = self.size;
-        if !(8.0..=100.0).contains(&length) || !(6.0..=60.0).contains(&width) {
+        // a transfer unit's distractors reach 4.3 m from the aisle's middle
+        if !(8.0..=100.0).contains(&length) || !(9.0..=60.0).contains(&width) {
             return Err(Error::invalid(
                 "cell.hall.size",
                 format!("{:?}", self.size),
-                "[length, width] with 8 <= length <= 100 and 6 <= width <= 60 m",
+                "[length, width] with 8 <= length <= 100 and 9 <= width <= 60 m",
             ));
         }
         let slots = 2 * crate::cell::slots_per_side(length) as u32;
