@@ -45,6 +45,7 @@ mod error;
 mod fixture;
 pub mod pass;
 pub mod preview;
+pub mod recipe;
 pub mod record;
 mod rendered;
 pub mod rig;
@@ -60,8 +61,9 @@ pub use claim::Claim;
 pub use config::{Clamping, Config, Span, Variant, overlay, parse_value, set_key};
 pub use dataset::{Dataset, Prepared, Row, Shard, Summary, sample_json};
 pub use error::{Error, Result};
+pub use recipe::Recipe;
 pub use record::SampleJson;
-pub use sample::{Recipe, Sample, make};
+pub use sample::{Sample, make};
 pub use station::{Capture, Station};
 
 /// The default dataset configuration (`configs/default.toml`), built into the binary.

@@ -15,8 +15,9 @@ use serde::{Deserialize, Serialize};
 use crate::augment::{Level, Split};
 use crate::cell::{AISLE, Cell, hall};
 use crate::error::{Error, Result};
+use crate::recipe::Recipe;
 use crate::record::{Matrix, ObjectJson};
-use crate::sample::{Recipe, matrix};
+use crate::sample::matrix;
 use crate::seed::Seed;
 
 /// Clearance between the robot's path and the hall's end walls, m.

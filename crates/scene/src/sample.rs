@@ -7,24 +7,23 @@ use std::sync::OnceLock;
 
 use glam::{Affine3A, Mat4, Vec3};
 use motorgen::kernel::Aabb;
-use motorgen::{Motor, ParamSpace, Scheme, build, derive_seed};
+use motorgen::{Motor, Scheme};
 use rand::{Rng, RngExt};
 use rayon::prelude::*;
 use sensor::render::Lighting;
 use sensor::{
-    ColourCapture, Lidar, Pixel, PointCloud, Region, Scan, SensorSpec, Target, World, scan_reusing,
+    ColourCapture, Pixel, PointCloud, Region, Scan, SensorSpec, Target, World, scan_reusing,
 };
 
-use crate::augment::{Level, Place, Split, place};
+use crate::augment::{Level, Split};
 use crate::cell::{
     Cell, Variation, bench, compose, handling, transfer_unit, transform_box, turned_with_motor,
 };
 use crate::coco::{self, CocoMasks, CocoView};
-use crate::config::{
-    Clamping, Colouring, Config, CropConfig, MAX_VIEWS, OutputConfig, SceneKind, Variant,
-};
+use crate::config::{Clamping, CropConfig, MAX_VIEWS, OutputConfig, SceneKind, Variant};
 use crate::coverage::{Surface, overlap};
 use crate::error::{Error, Result};
+use crate::recipe::Recipe;
 use crate::record::{CropJson, ObjectJson, SampleJson, ViewJson};
 use crate::rendered;
 use crate::rig::camera_poses;
@@ -35,126 +34,6 @@ thread_local! {
     /// This thread's last region scan, whose buffer its next reuses: a megapixel buffer mapped
     /// afresh per sample costs more in page faults than the scan spends filling it.
     static EARLIER: std::cell::Cell<Scan> = std::cell::Cell::new(Scan::default());
-}
-
-/// A checked configuration, ready to make samples.
-#[derive(Clone, Debug)]
-pub struct Recipe {
-    /// The configuration.
-    pub config: Config,
-    /// The sweep values that made it from the base configuration.
-    pub sweep: Vec<(String, toml::Value)>,
-    /// The motor parameter space of each variant (one space when no variants are listed).
-    spaces: Vec<ParamSpace>,
-    /// The sensor, its sampling applied.
-    sensor: SensorSpec,
-    /// The hall's LiDAR (`cell.scene = "hall"`).
-    lidar: Option<Lidar>,
-}
-
-impl Recipe {
-    /// Checks `config` and prepares its parameter spaces and sensor.
-    ///
-    /// # Errors
-    ///
-    /// The errors of [`Config::check`](crate::Config::check), and
-    /// [`Error::Config`] for a sensor that does not resolve.
-    pub fn new(config: Config, sweep: Vec<(String, toml::Value)>) -> Result<Recipe> {
-        config.check()?;
-        let spaces = config.param_spaces()?;
-        let sensor = config.sensor.resolve()?;
-        let lidar = (config.cell.scene == SceneKind::Hall)
-            .then(|| config.lidar.resolve())
-            .transpose()?;
-        Ok(Recipe {
-            config,
-            sweep,
-            spaces,
-            sensor,
-            lidar,
-        })
-    }
-
-    /// Sample `index`'s motor variant, augmentation level and split ([`place`]).
-    pub fn placement(&self, index: u64) -> (Option<Variant>, Level, Split) {
-        let p = self.place(index);
-        let variant = self.config.motor.variants.get(p.slot as usize).copied();
-        (variant, p.level, p.split)
-    }
-
-    fn place(&self, index: u64) -> Place {
-        let slots = u32::try_from(self.spaces.len()).unwrap_or(u32::MAX);
-        place(index, slots, &self.config.augment)
-    }
-
-    /// Sample `index`'s seed and motor.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::Config`] when the motor's parameters drawn for this sample
-    /// do not form a valid motor.
-    pub fn motor(&self, index: u64) -> Result<(u64, Motor)> {
-        let seed = derive_seed(self.config.seed, index);
-        let space = &self.spaces[self.place(index).slot as usize];
-        let motor = build(
-            &space.sample(Seed::Motor.of(seed))?,
-            self.config.motor.detail,
-        );
-        Ok((seed, motor))
-    }
-
-    /// Sample `index`'s `k`-th motor besides its own (k from 1: the transfer unit's and the
-    /// handling table's): its own draw of the parameters, of the next variant in turn.
-    ///
-    /// # Errors
-    ///
-    /// [`Error::Config`] when the motor's parameters drawn do not form a valid motor.
-    pub fn extra_motor(&self, index: u64, k: usize) -> Result<Motor> {
-        let seed = derive_seed(self.config.seed, index);
-        let slot = (self.place(index).slot as usize + k) % self.spaces.len();
-        let params = self.spaces[slot].sample(Seed::Extra(k as u64).of(seed))?;
-        Ok(build(&params, self.config.motor.detail))
-    }
-
-    /// The sensor, its sampling applied.
-    pub fn sensor(&self) -> &SensorSpec {
-        &self.sensor
-    }
-
-    /// The hall's LiDAR, if the scene is the hall.
-    pub fn hall_lidar(&self) -> Option<&Lidar> {
-        self.lidar.as_ref()
-    }
-
-    /// The hall's LiDAR.
-    ///
-    /// # Panics
-    ///
-    /// Unless the scene is the hall.
-    pub(crate) fn lidar(&self) -> &Lidar {
-        self.lidar
-            .as_ref()
-            .expect("the hall's recipe has its LiDAR")
-    }
-
-    /// `cloud` with the rgb `output.colour` asks for: the camera's, or the class colours of the
-    /// label scheme (grey beyond it).
-    pub fn coloured<'a>(&self, cloud: &'a PointCloud) -> Cow<'a, PointCloud> {
-        match self.config.output.colour {
-            Colouring::Camera => Cow::Borrowed(cloud),
-            Colouring::Class => {
-                let classes = self.config.output.scheme.classes();
-                Cow::Owned(PointCloud {
-                    rgb: cloud
-                        .class
-                        .iter()
-                        .map(|&c| classes.get(c as usize).map_or([128; 3], |c| c.color))
-                        .collect(),
-                    ..cloud.clone()
-                })
-            }
-        }
-    }
 }
 
 /// One view of a sample.
@@ -299,7 +178,7 @@ pub fn make(recipe: &Recipe, index: u64) -> Result<Sample> {
         &mut Seed::Camera.rng(seed),
     );
     let noise_scale = lc.noise_scale.sample(&mut Seed::NoiseScale.rng(seed));
-    let mut sensor = recipe.sensor.clone();
+    let mut sensor = recipe.sensor().clone();
     sensor.noise = sensor.noise.scaled(noise_scale);
     sensor.calibration.seed = match config.sensor.cameras {
         0 => Seed::Calibration.of(seed),

@@ -11,8 +11,9 @@ use crate::cell::{Cell, Variation, compose, transform_box};
 use crate::config::{CameraConfig, Clamping};
 use crate::coverage::{Rule, Surface, coverage, faces, observe};
 use crate::error::{Error, Result};
+use crate::recipe::Recipe;
 use crate::rig::camera_poses;
-use crate::sample::{Recipe, region_around};
+use crate::sample::region_around;
 use crate::seed::Seed;
 
 /// How far beyond the motor's box measured points are kept, m.

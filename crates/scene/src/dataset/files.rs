@@ -12,8 +12,9 @@ use crate::bop;
 use crate::claim::plain_dir;
 use crate::config::{ImageFormat, ImageKind, Layout};
 use crate::error::{Error, Result};
+use crate::recipe::Recipe;
 use crate::record::SampleJson;
-use crate::sample::{Recipe, Sample};
+use crate::sample::Sample;
 use crate::yolo::{self, Yolo};
 
 impl Dataset {

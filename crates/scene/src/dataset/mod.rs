@@ -29,7 +29,8 @@ use crate::claim::{Claim, plain_dir};
 use crate::config::{Combinations, Config, Layout, SceneKind, set_key};
 use crate::error::{Error, Result};
 use crate::pass::{Hall, Pass, make_pass};
-use crate::sample::{Recipe, Sample, make};
+use crate::recipe::Recipe;
+use crate::sample::{Sample, make};
 
 pub(crate) use files::SAMPLE_FOLDERS;
 pub use files::sample_json;

@@ -11,7 +11,7 @@ use super::{Dataset, Row};
 use crate::claim::plain_dir;
 use crate::error::{Error, Result};
 use crate::pass::{Hall, Pass, PassJson, hall_of, make_hall, make_pass};
-use crate::sample::Recipe;
+use crate::recipe::Recipe;
 
 /// A hall being built or built, shared by the workers making its passes.
 type Slot = Arc<OnceLock<std::result::Result<Arc<Hall>, String>>>;
