@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 use sensor::formats::LidarFormat;
-use sensor::lidar::{Echoes, LidarFrame, Motion};
+use sensor::lidar::{LidarFrame, Motion};
 use sensor::{LIDAR_PRESETS, Lidar, LidarScan, World, head_pose, scan_lidar};
 
 use super::{ScanCmd, mesh_bytes, numbers, pose_matrix, targets};
@@ -51,16 +51,10 @@ impl ScanCmd {
     /// Scans with `lidar`.
     pub(super) fn run_lidar(&self, lidar: &Lidar) -> CliResult<()> {
         let meshes = self.meshes()?;
-        // every ray's returns (two with dual echoes), and the files' rows built from them
-        let echoes = if lidar.beam.echoes == Echoes::Dual {
-            2
-        } else {
-            1
-        };
-        let returns = (lidar.rays() as u64 * echoes)
-            .saturating_mul(2 * size_of::<sensor::lidar::LidarReturn>() as u64);
         crate::memory::ensure_fits(
-            returns.saturating_add(mesh_bytes(&meshes).saturating_mul(4)),
+            lidar
+                .pass_memory()
+                .saturating_add(mesh_bytes(&meshes).saturating_mul(4)),
             &format!("a pass of {} ({} rays)", lidar.name, lidar.rays()),
             "scan a smaller mesh, or with a coarser resolution",
         )?;

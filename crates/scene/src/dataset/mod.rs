@@ -181,14 +181,7 @@ impl Dataset {
         };
         let per_job = match self.base.hall_lidar() {
             Some(lidar) => {
-                let echoes = if lidar.beam.echoes == sensor::lidar::Echoes::Dual {
-                    2
-                } else {
-                    1
-                };
-                let returns = lidar.rays() as u64 * echoes;
-                let bytes = returns * 2 * size_of::<sensor::lidar::LidarReturn>() as u64;
-                bytes + self.hall_memory() * (jobs as u64 + 1) / jobs.max(1) as u64
+                lidar.pass_memory() + self.hall_memory() * (jobs as u64 + 1) / jobs.max(1) as u64
             }
             None => views * self.sensor().scan_memory() + (16 << 20),
         };

@@ -48,14 +48,15 @@ impl LidarFormat {
 
     /// The name used in configs and on the command line.
     pub fn name(self) -> &'static str {
-        match self.cloud() {
-            Some(c) => c.name(),
-            None => match self {
-                LidarFormat::BlensorNumpy => "blensor-numpy",
-                LidarFormat::BlensorPcd => "blensor-pcd",
-                LidarFormat::Npz => "npz",
-                _ => "las",
-            },
+        match self {
+            LidarFormat::BlensorNumpy => "blensor-numpy",
+            LidarFormat::BlensorPcd => "blensor-pcd",
+            LidarFormat::Npz => "npz",
+            LidarFormat::Las => "las",
+            LidarFormat::Ply => CloudFormat::Ply.name(),
+            LidarFormat::Pcd => CloudFormat::Pcd.name(),
+            LidarFormat::PcdAscii => CloudFormat::PcdAscii.name(),
+            LidarFormat::Npy => CloudFormat::Npy.name(),
         }
     }
 

@@ -147,6 +147,17 @@ impl Lidar {
         self.columns() * self.lasers.len()
     }
 
+    /// Memory a pass needs at its peak, in bytes: every ray's returns (two with dual echoes),
+    /// twice over (the scan, and the rows or columns its files are built from).
+    pub fn pass_memory(&self) -> u64 {
+        let echoes = if self.beam.echoes == Echoes::Dual {
+            2
+        } else {
+            1
+        };
+        (self.rays() as u64 * echoes).saturating_mul(2 * size_of::<LidarReturn>() as u64)
+    }
+
     /// Checks the parameters; the message names the first that is wrong.
     ///
     /// # Errors
