@@ -12,8 +12,10 @@ joins them where Debian's libembree-dev is installed: each caster's rate, build 
 triangle, and its hit/miss agreement with ours.
 
 Usage: python3 bench/raycast_peers.py [--threads 2] [--repeats 5] [--sizes 200000,2000000]
-[--referee 20] (`--referee 0` re-casts every ray where the casters differ, and gives each
-caster's agreement with the referee over all rays: rays where they agree count as right)
+[--referee 20] [--rounds 3] (`--referee 0` re-casts every ray where the casters differ, and gives
+each caster's agreement with the referee over all rays: rays where they agree count as right;
+`--rounds` times motorfactory's packets, Open3D and Embree's packets in turn that many times,
+and gives the median of each round's ratios: the machine's speed drifts over minutes)
 (`--sizes 20000000` for 20M triangles: about 6 GB of memory, mostly the float64 referee's)
 Needs: pip install numpy open3d (and Debian's libusb-1.0-0); builds the Rust side and the Embree
 peer itself.
@@ -162,6 +164,9 @@ def main():
     p.add_argument("--sizes", default="200000,2000000")
     p.add_argument("--referee", type=int, default=20,
                    help="rays where the casters differ to re-cast exactly, per size (0: every one)")
+    p.add_argument("--rounds", type=int, default=3,
+                   help="rounds of packets, Open3D and Embree's packets in turn, per size (ratios: "
+                        "their medians over the rounds, each round's casters timed minutes apart at most)")
     args = p.parse_args()
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "sensor", "--example", "raycast_peer"], cwd=root, check=True)
@@ -175,11 +180,17 @@ def main():
             vertices, tris = scene(size)
             np.save(f"{tmp}/v.npy", vertices)
             np.save(f"{tmp}/t.npy", tris)
-            runs = {}
-            for mode in ["single", "packets"]:
+            def ours_rate(mode):
                 out = subprocess.run([binary, f"{tmp}/v.npy", f"{tmp}/t.npy", f"{tmp}/rays.npy", str(args.threads), str(args.repeats),
                                       f"{tmp}/hits_{mode}.npy", mode], check=True, capture_output=True, text=True).stdout
-                runs[mode] = json.loads(out)
+                return json.loads(out)
+
+            def embree_rate(mode):
+                out = subprocess.run([embree_binary, f"{tmp}/v.npy", f"{tmp}/t.npy", f"{tmp}/rays.npy", str(args.threads),
+                                      str(args.repeats), f"{tmp}/embree.npy", mode], check=True, capture_output=True, text=True).stdout
+                return json.loads(out)
+
+            runs = {mode: ours_rate(mode) for mode in ["single", "packets"]}
             hits = np.load(f"{tmp}/hits_packets.npy")
             same = np.array_equal(hits, np.load(f"{tmp}/hits_single.npy"))
             build, best, median, t, ids, normals = open3d_rate(vertices, tris, rays, args.threads, args.repeats)
@@ -199,15 +210,25 @@ def main():
                   f"{with_them} with Open3D" + (
                       f"; agreement with the referee on every ray: motorfactory {1 - (differ - with_us) / len(rays):.6f}, "
                       f"Open3D {1 - (differ - with_them) / len(rays):.6f}" if judged == differ else ""))
+            rounds = [(ours["best_mrays"], best, None)]
             for mode in ["p16", "p1"] if embree_binary else []:
-                out = subprocess.run([embree_binary, f"{tmp}/v.npy", f"{tmp}/t.npy", f"{tmp}/rays.npy", str(args.threads),
-                                      str(args.repeats), f"{tmp}/embree.npy", mode], check=True, capture_output=True, text=True).stdout
-                e = json.loads(out)
+                e = embree_rate(mode)
+                if mode == "p16":
+                    rounds[0] = (ours["best_mrays"], best, e["best_mrays"])
                 theirs = np.load(f"{tmp}/embree.npy")
                 agree = np.mean(np.isfinite(theirs[:, 0]) == np.isfinite(hits[:, 0]))
                 print(f"  Embree 3 {mode}: {e['best_mrays']:.2f} Mrays/s (median {e['median_mrays']:.2f}), build {e['build_s']:.3f} s, "
                       f"{e['bvh_bytes_per_triangle']:.0f} bytes a triangle; motorfactory's packets {ours['best_mrays'] / e['best_mrays']:.2f}x; "
                       f"hit/miss agreement with motorfactory {agree:.5f}")
+            for _ in range(args.rounds - 1):
+                rounds.append((ours_rate("packets")["best_mrays"],
+                               open3d_rate(vertices, tris, rays, args.threads, args.repeats)[1],
+                               embree_rate("p16")["best_mrays"] if embree_binary else None))
+            line = lambda k: ", ".join(f"{r[k]:.2f}" for r in rounds)
+            print(f"  {len(rounds)} rounds, best Mrays/s: motorfactory's packets {line(0)}; Open3D {line(1)}"
+                  + (f"; Embree p16 {line(2)}" if embree_binary else "")
+                  + f"; median ratio to Open3D {np.median([r[0] / r[1] for r in rounds]):.2f}x"
+                  + (f", to Embree p16 {np.median([r[0] / r[2] for r in rounds]):.2f}x" if embree_binary else ""))
 
 
 if __name__ == "__main__":

@@ -89,7 +89,7 @@ fn main() {
                                     ray(4 * g + l).map_or(0.0, |_| f32::INFINITY)
                                 })
                             });
-                            let hits = world.bvh().cast_packet(&origins, &dirs, &t_max);
+                            let hits = world.cast_packet(&origins, &dirs, &t_max);
                             let rays = origins.iter().flatten().zip(dirs.iter().flatten());
                             for ((slot, h), (&o, &d)) in
                                 slots.iter_mut().zip(hits.iter().flatten()).zip(rays)

@@ -6,7 +6,7 @@ use glam::{Affine3A, Vec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::bvh::{Bvh, Hit};
+use crate::bvh::{Bvh, Hit, prefetch_lines};
 use crate::camera::Intrinsics;
 use crate::epipolar::Epipolar;
 use crate::noise::Lobe;
@@ -97,10 +97,9 @@ pub enum Classes {
     PerTriangle(Vec<u16>),
 }
 
-/// Per-triangle data the sensor needs after a hit.
+/// Per-triangle data the sensor needs after a hit, beside its corners (the tree's).
 #[derive(Clone, Copy, Debug)]
 struct TriInfo {
-    normal: Vec3,
     class: u16,
     target: u32,
 }
@@ -109,7 +108,9 @@ struct TriInfo {
 #[derive(Clone, Debug)]
 pub struct World {
     bvh: Bvh,
-    tris: Vec<TriInfo>,
+    /// What a hit carries, per triangle by slot (the tree's leaf order: nearby hits read
+    /// nearby entries).
+    by_slot: Vec<TriInfo>,
     /// Per target, what its hits carry.
     surfaces: Vec<Surface>,
 }
@@ -159,7 +160,6 @@ impl World {
                         Classes::PerTriangle(v) => v[i],
                     };
                     let info = TriInfo {
-                        normal: (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero(),
                         class,
                         target: k as u32,
                     };
@@ -167,9 +167,14 @@ impl World {
                 })
             })
             .unzip();
+        let bvh = Bvh::build(&corners);
+        let by_slot = (0..tris.len() as u32)
+            .into_par_iter()
+            .map(|slot| tris[bvh.triangle(slot) as usize])
+            .collect();
         World {
-            bvh: Bvh::build(&corners),
-            tris,
+            bvh,
+            by_slot,
             surfaces: targets
                 .iter()
                 .map(|t| Surface {
@@ -184,7 +189,7 @@ impl World {
 
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
-        self.tris.len()
+        self.by_slot.len()
     }
 
     /// The closest surface along a unit ray within `t_max`.
@@ -192,14 +197,30 @@ impl World {
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<SurfaceHit> {
         self.bvh
             .cast(origin, dir, t_max)
-            .map(|h| self.describe(h.t, h.triangle, origin, dir))
+            .map(|h| self.describe_slot(h.slot, h.t, origin, dir))
     }
 
     /// What a ray from `origin` in direction `dir` finds at `hit` (a hit of [`World::bvh`]'s
     /// casts): the surface's normal facing the ray, its class, instance and material.
     #[inline]
     pub fn surface(&self, hit: &Hit, origin: Vec3, dir: Vec3) -> SurfaceHit {
-        self.describe(hit.t, hit.triangle, origin, dir)
+        self.describe_slot(hit.slot, hit.t, origin, dir)
+    }
+
+    /// The closest hits of a packet of rays ([`Bvh::cast_packet`]), what [`World::surface`]
+    /// reads of each hit's triangle asked into the cache meanwhile (one hit's after another's,
+    /// they would wait for memory in turn).
+    pub fn cast_packet<const G: usize>(
+        &self,
+        origins: &[[Vec3; 4]; G],
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+    ) -> [[Option<Hit>; 4]; G] {
+        let hits = self.bvh.cast_packet(origins, dirs, t_max);
+        for hit in hits.iter().flatten().flatten() {
+            prefetch_lines(self.by_slot.as_ptr().wrapping_add(hit.slot as usize), 1);
+        }
+        hits
     }
 
     /// The BVH over every target's triangles, for casting packets of rays
@@ -231,16 +252,16 @@ impl World {
     /// The hit at distance `t` along unit ray `dir` from `origin` on the triangle in BVH slot
     /// `slot`.
     pub(crate) fn describe_slot(&self, slot: u32, t: f32, origin: Vec3, dir: Vec3) -> SurfaceHit {
-        self.describe(t, self.bvh.triangle(slot), origin, dir)
-    }
-
-    fn describe(&self, t: f32, triangle: u32, origin: Vec3, dir: Vec3) -> SurfaceHit {
-        let info = self.tris[triangle as usize];
+        let info = self.by_slot[slot as usize];
+        let triangle = self.bvh.triangle(slot);
         let surface = &self.surfaces[info.target as usize];
-        let normal = if info.normal.dot(dir) > 0.0 {
-            -info.normal
+        // from the corners the hit has just brought into the cache
+        let c = &self.bvh.slots()[slot as usize];
+        let normal = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
+        let normal = if normal.dot(dir) > 0.0 {
+            -normal
         } else {
-            info.normal
+            normal
         };
         let mut hit = SurfaceHit {
             t,

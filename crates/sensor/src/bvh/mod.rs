@@ -11,7 +11,7 @@ mod triangle;
 
 use glam::{Vec3, Vec4};
 
-pub(crate) use traverse::lanes;
+pub(crate) use traverse::{lanes, prefetch_lines};
 use triangle::{Rays4, ShearedRay};
 
 /// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
@@ -72,6 +72,9 @@ pub struct Hit {
     pub t: f32,
     /// Index of the triangle in the input order.
     pub triangle: u32,
+    /// The triangle's slot in the tree (its place in leaf order): hits of nearby rays lie in
+    /// nearby slots, so what a caller keeps per triangle is best kept by slot.
+    pub slot: u32,
     /// Barycentric coordinate of the second vertex.
     pub u: f32,
     /// Barycentric coordinate of the third vertex.
@@ -81,13 +84,14 @@ pub struct Hit {
 impl Hit {
     /// Takes `other` if it is nearer, or as near with a lower input index (`order` maps the
     /// slots both hold to input indices: so that ties at shared edges resolve the same way in
-    /// any traversal order and whatever the tree); returns its distance if so.
+    /// any traversal order and whatever the tree); returns its distance if so. During a walk a
+    /// hit has its slot only.
     #[inline(always)]
     fn closer(&mut self, other: Hit, order: &[u32]) -> Option<f32> {
         let take = other.t < self.t
             || (other.t == self.t
-                && self.triangle != u32::MAX
-                && order[other.triangle as usize] < order[self.triangle as usize]);
+                && self.slot != u32::MAX
+                && order[other.slot as usize] < order[self.slot as usize]);
         take.then(|| {
             *self = other;
             other.t
@@ -147,6 +151,7 @@ impl Bvh {
         let mut best = Hit {
             t: t_max,
             triangle: u32::MAX,
+            slot: u32::MAX,
             u: 0.0,
             v: 0.0,
         };
@@ -155,7 +160,8 @@ impl Bvh {
             if let Some((t, u, v)) = ray.intersect(&self.tris[slot as usize], limit) {
                 let hit = Hit {
                     t,
-                    triangle: slot,
+                    triangle: u32::MAX,
+                    slot,
                     u,
                     v,
                 };
@@ -165,8 +171,8 @@ impl Bvh {
                 }
             }
         });
-        (best.triangle != u32::MAX).then(|| Hit {
-            triangle: self.triangle(best.triangle),
+        (best.slot != u32::MAX).then(|| Hit {
+            triangle: self.triangle(best.slot),
             ..best
         })
     }
@@ -189,6 +195,7 @@ impl Bvh {
         let none = Hit {
             t: 0.0,
             triangle: u32::MAX,
+            slot: u32::MAX,
             u: 0.0,
             v: 0.0,
         };
@@ -208,7 +215,8 @@ impl Bvh {
                 |lane, (t, u, v)| {
                     let hit = Hit {
                         t,
-                        triangle: slot,
+                        triangle: u32::MAX,
+                        slot,
                         u,
                         v,
                     };
@@ -222,9 +230,9 @@ impl Bvh {
         let mut hits = [[None; 4]; G];
         for (hits, best) in hits.iter_mut().zip(&best) {
             for (hit, b) in hits.iter_mut().zip(best) {
-                if b.triangle != u32::MAX {
+                if b.slot != u32::MAX {
                     *hit = Some(Hit {
-                        triangle: self.triangle(b.triangle),
+                        triangle: self.triangle(b.slot),
                         ..*b
                     });
                 }

@@ -187,7 +187,7 @@ impl Bvh {
 /// Asks for the `lines` cache lines from `from` on to be brought into the cache.
 #[inline(always)]
 #[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
-fn prefetch_lines<T>(from: *const T, lines: usize) {
+pub(crate) fn prefetch_lines<T>(from: *const T, lines: usize) {
     #[cfg(target_arch = "x86_64")]
     for line in 0..lines {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};

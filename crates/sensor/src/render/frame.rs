@@ -95,7 +95,7 @@ impl Frame<'_> {
                     dirs[g][lane] = self.pose.transform_vector3(dir).normalize();
                     t_max[g][lane] = f32::INFINITY;
                 }
-                let hits = world.bvh().cast_packet(&origins, &dirs, &t_max);
+                let hits = world.cast_packet(&origins, &dirs, &t_max);
                 for (g, lane) in lanes::<TILE>() {
                     if t_max[g][lane] == 0.0 {
                         continue;

@@ -294,7 +294,6 @@ impl<'a> Capture<'a> {
             }
             let hits = self
                 .world
-                .bvh()
                 .cast_packet(&[[self.origin; 4]; GROUPS], &dirs, &t_max);
             // the shadow rays, world frame, towards the lit surface points from the projector
             let mut shadow = [[Vec3::Z; 4]; GROUPS];

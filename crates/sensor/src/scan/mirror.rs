@@ -180,7 +180,7 @@ fn cast_run(
         dirs[k] = pose.transform_vector3(dir);
         t_max[k] = f32::INFINITY;
     }
-    let [hits] = world.bvh().cast_packet(&[origins], &[dirs], &[t_max]);
+    let [hits] = world.cast_packet(&[origins], &[dirs], &[t_max]);
     for (k, &(i, from, dir)) in run.iter().enumerate() {
         out[i] = hits[k].map(|hit| seen(&hit, from, dir, dirs[k]));
     }
