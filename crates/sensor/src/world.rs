@@ -223,8 +223,9 @@ impl World {
         hits
     }
 
-    /// The BVH over every target's triangles, for casting packets of rays
-    /// ([`Bvh::cast_packet`], [`Bvh::occluded_packet`]).
+    /// The BVH over every target's triangles, for packets of occlusion tests
+    /// ([`Bvh::occluded_packet`]) and casts whose hits are not described ([`World::cast_packet`]
+    /// for those that are).
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
     }
