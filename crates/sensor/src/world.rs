@@ -208,19 +208,16 @@ impl World {
     }
 
     /// The closest hits of a packet of rays ([`Bvh::cast_packet`]), what [`World::surface`]
-    /// reads of each hit's triangle asked into the cache meanwhile (one hit's after another's,
-    /// they would wait for memory in turn).
+    /// reads of each hit's triangle asked into the cache as the walk takes the hit.
     pub fn cast_packet<const G: usize>(
         &self,
         origins: &[[Vec3; 4]; G],
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [[Option<Hit>; 4]; G] {
-        let hits = self.bvh.cast_packet(origins, dirs, t_max);
-        for hit in hits.iter().flatten().flatten() {
-            prefetch_lines(self.by_slot.as_ptr().wrapping_add(hit.slot as usize), 1);
-        }
-        hits
+        self.bvh.cast_packet_noting(origins, dirs, t_max, |slot| {
+            prefetch_lines(self.by_slot.as_ptr().wrapping_add(slot as usize), 1);
+        })
     }
 
     /// The BVH over every target's triangles, for packets of occlusion tests

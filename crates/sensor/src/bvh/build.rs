@@ -8,7 +8,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::{Bvh, COUNT_SHIFT, EMPTY, LEAF, LEAF_SIZE, Node4, SLOT, Tri, leaf_slots};
+use super::{Bvh, COUNT_SHIFT, DEEP, EMPTY, LEAF, LEAF_SIZE, Node4, SLOT, Tri, leaf_slots};
 
 /// A node of the binary tree: an internal node's children are at `child` and `child + 1`; a
 /// leaf holds `count` triangles, the build order's from `child` on.
@@ -124,7 +124,17 @@ impl Bvh {
                 if (binary[k].count != INTERNAL) == leaves {
                     node.child[lane] = self.collapse(binary, built, k);
                     if !leaves {
-                        node.leaves[lane] = self.leaf_lines(node.child[lane]);
+                        let c = node.child[lane];
+                        node.leaves[lane] = self.leaf_lines(c);
+                        // its first internal child, if any, was made right after it
+                        let first = self.nodes[c as usize]
+                            .child
+                            .iter()
+                            .find(|&&g| g & LEAF == 0);
+                        if let Some(&first) = first {
+                            debug_assert_eq!(first & !DEEP, c + 1);
+                            node.child[lane] |= DEEP;
+                        }
                     }
                 }
             }
@@ -154,7 +164,10 @@ impl Bvh {
     /// Levels of the tree below and including node `i`.
     fn levels(&self, i: usize) -> usize {
         let inner = self.nodes[i].child.iter().filter(|&&c| c & LEAF == 0);
-        1 + inner.map(|&c| self.levels(c as usize)).max().unwrap_or(0)
+        1 + inner
+            .map(|&c| self.levels((c & !DEEP) as usize))
+            .max()
+            .unwrap_or(0)
     }
 }
 

@@ -15,9 +15,10 @@ pub(crate) use traverse::{lanes, prefetch_lines};
 use triangle::{Rays4, ShearedRay};
 
 /// A node of the 4-wide tree: the boxes of up to four children as lanes (x, y, z minima, then
-/// x, y, z maxima), and each child's code: an internal node index, a leaf ([`LEAF`] | (triangles
-/// − 1) << [`COUNT_SHIFT`] | first triangle slot: a run of one to [`LEAF_SIZE`] consecutive
-/// slots), or [`EMPTY`] (whose box is inverted, +∞ to -∞, so that no ray enters it).
+/// x, y, z maxima), and each child's code: an internal node index (| [`DEEP`] where that node
+/// has internal children), a leaf ([`LEAF`] | (triangles − 1) << [`COUNT_SHIFT`] | first
+/// triangle slot: a run of one to [`LEAF_SIZE`] consecutive slots), or [`EMPTY`] (whose box is
+/// inverted, +∞ to -∞, so that no ray enters it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 struct Node4 {
@@ -37,6 +38,10 @@ const LEAF_SIZE: usize = 4;
 const COUNT_SHIFT: u32 = 29;
 /// The bits of a leaf's code that hold its first slot.
 const SLOT: u32 = (1 << COUNT_SHIFT) - 1;
+/// The bit of an internal child's code that says its node has internal children, the first of
+/// them the next node (depth-first order): fetched with it, the walk that goes straight on down
+/// finds it there. Node indices stay below it: there are fewer nodes than triangles.
+const DEEP: u32 = 1 << 30;
 /// Child code of an unused lane.
 const EMPTY: u32 = u32::MAX;
 
@@ -189,6 +194,19 @@ impl Bvh {
         dirs: &[[Vec3; 4]; G],
         t_max: &[[f32; 4]; G],
     ) -> [[Option<Hit>; 4]; G] {
+        self.cast_packet_noting(origins, dirs, t_max, |_| {})
+    }
+
+    /// [`Bvh::cast_packet`], calling `noted(slot)` for each hit a lane takes during the walk:
+    /// what the caller keeps by slot for the hits can be asked into the cache while the walk
+    /// goes on.
+    pub(crate) fn cast_packet_noting<const G: usize>(
+        &self,
+        origins: &[[Vec3; 4]; G],
+        dirs: &[[Vec3; 4]; G],
+        t_max: &[[f32; 4]; G],
+        mut noted: impl FnMut(u32),
+    ) -> [[Option<Hit>; 4]; G] {
         if idle(t_max) {
             return [[None; 4]; G];
         }
@@ -223,6 +241,9 @@ impl Bvh {
                     if let Some(t) = best[lane].closer(hit, &self.order) {
                         reach[lane] = t;
                         limit[lane] = t.next_up();
+                        // its input index, read when the walk is over, on its way meanwhile
+                        prefetch_lines(self.order.as_ptr().wrapping_add(slot as usize), 1);
+                        noted(slot);
                     }
                 },
             );

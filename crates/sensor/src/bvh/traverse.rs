@@ -7,7 +7,7 @@ use std::mem::MaybeUninit;
 use glam::{BVec4A, Vec3, Vec4};
 
 use super::triangle::{Rays4, WIDEN};
-use super::{Bvh, COUNT_SHIFT, EMPTY, LEAF, Node4, SLOT, leaf_slots};
+use super::{Bvh, COUNT_SHIFT, DEEP, EMPTY, LEAF, Node4, SLOT, leaf_slots};
 
 /// Traversal stack entries kept on the call stack: trees of a few million triangles are
 /// well under 20 four-wide levels deep, and a walk holds at most four entries per level.
@@ -48,7 +48,7 @@ impl Bvh {
             let mut visited = 0;
             loop {
                 visited += 1;
-                let n = &self.nodes[cur as usize];
+                let n = self.node(cur);
                 let (mut mask, near) = cone.enters(n, reach_all);
                 let base = stack.len;
                 let mut leaves = 0;
@@ -57,7 +57,7 @@ impl Bvh {
                     mask &= mask - 1;
                     let code = n.child[c];
                     if code & LEAF == 0 {
-                        self.prefetch(code);
+                        self.prefetch(code, true);
                         self.prefetch_leaves(n.leaves[c]);
                         stack.push_sorted(base, code, near[c]);
                     } else if code != EMPTY {
@@ -102,12 +102,21 @@ impl Bvh {
 }
 
 impl Bvh {
-    /// Asks for node `i` to be brought into the cache while the walk goes on: most children a
-    /// walk enters it visits later, from the stack.
+    /// The node of an internal child's code.
     #[inline(always)]
-    fn prefetch(&self, i: u32) {
-        let lines = size_of::<Node4>() / 64;
-        prefetch_lines(self.nodes.as_ptr().wrapping_add(i as usize), lines);
+    fn node(&self, code: u32) -> &Node4 {
+        &self.nodes[(code & !DEEP) as usize]
+    }
+
+    /// Asks for the node of an internal child's code to be brought into the cache while the walk
+    /// goes on (most children a walk enters it visits later, from the stack), and with `first`
+    /// its first internal child where it has one: the node a walk that visits it at once most
+    /// often goes on to.
+    #[inline(always)]
+    fn prefetch(&self, code: u32, first: bool) {
+        let (i, lines) = ((code & !DEEP) as usize, size_of::<Node4>() / 64);
+        let next = usize::from(first && code & DEEP != 0);
+        prefetch_lines(self.nodes.as_ptr().wrapping_add(i), lines * (1 + next));
     }
 
     /// Asks for the triangles of a node's leaves (`lines`: as [`Node4::leaves`] keeps them) to
@@ -156,7 +165,7 @@ impl Bvh {
             let mut visited = 0;
             loop {
                 visited += 1;
-                let n = &self.nodes[cur as usize];
+                let n = self.node(cur);
                 let (mut mask, near) = slab.enters(n, reach);
                 let base = stack.len;
                 while mask != 0 {
@@ -164,7 +173,7 @@ impl Bvh {
                     mask &= mask - 1;
                     let code = n.child[c];
                     if code & LEAF == 0 {
-                        self.prefetch(code);
+                        self.prefetch(code, false);
                         stack.push_sorted(base, code, near[c]);
                     } else if code != EMPTY {
                         for slot in leaf_slots(code) {
